@@ -1,0 +1,239 @@
+//! Jacobi-preconditioned BiCGStab (van der Vorst 1992, right preconditioning) on a CSR matrix.
+
+use crate::vector::{dot, for_each_mut, norm, spmv, sum};
+use crate::{NullSpace, SolverOptions};
+use sprs::CsMat;
+
+/// Work vectors of BiCGStab, sized on first use and reused afterwards.
+#[derive(Default)]
+pub struct BiCgStabWorkspace {
+    r: Vec<f64>,
+    r_hat: Vec<f64>,
+    p: Vec<f64>,
+    v: Vec<f64>,
+    s: Vec<f64>,
+    t: Vec<f64>,
+    y: Vec<f64>,
+    z: Vec<f64>,
+    inv_diag: Vec<f64>,
+    pub(crate) partials: Vec<f64>,
+}
+
+pub(crate) struct Outcome {
+    pub converged: bool,
+    pub iterations: usize,
+    pub relative_residual: f64,
+}
+
+/// The operator BiCGStab iterates with: `A`, or for a constant null space the rank-one
+/// augmented `A + c 1 1ᵀ` (non-singular when the left null vector of A is not orthogonal to 1).
+struct Operator<'a> {
+    a: &'a CsMat<f64>,
+    rank_one: f64,
+}
+
+impl Operator<'_> {
+    fn apply(&self, x: &[f64], y: &mut [f64], partials: &mut Vec<f64>) {
+        spmv(self.a, x, y);
+        if self.rank_one != 0.0 {
+            let shift = self.rank_one * sum(x, partials);
+            for_each_mut(y, |_, v| *v += shift);
+        }
+    }
+}
+
+/// Restarts allowed when the recurrence breaks down or the recursive residual drifts from
+/// the true one.
+const MAX_RESTARTS: usize = 8;
+
+impl BiCgStabWorkspace {
+    fn resize(&mut self, n: usize) {
+        for v in [
+            &mut self.r,
+            &mut self.r_hat,
+            &mut self.p,
+            &mut self.v,
+            &mut self.s,
+            &mut self.t,
+            &mut self.y,
+            &mut self.z,
+            &mut self.inv_diag,
+        ] {
+            v.resize(n, 0.0);
+        }
+    }
+
+    pub(crate) fn solve(
+        &mut self,
+        a: &CsMat<f64>,
+        b: &[f64],
+        x: &mut [f64],
+        options: &SolverOptions,
+    ) -> Outcome {
+        let n = b.len();
+        self.resize(n);
+        let rank_one = match options.null_space {
+            NullSpace::None => 0.0,
+            NullSpace::Constant => mean_abs_diagonal(a) / n as f64,
+        };
+        let op = Operator { a, rank_one };
+        jacobi(a, rank_one, &mut self.inv_diag);
+        if options.null_space == NullSpace::Constant {
+            remove_mean(x, &mut self.partials);
+        }
+        let b_norm = norm(b, &mut self.partials);
+        let target = (options.relative_tolerance * b_norm).max(options.absolute_tolerance);
+
+        let mut iterations = 0;
+        let mut converged = false;
+        for _restart in 0..=MAX_RESTARTS {
+            // True residual r = b − A' x.
+            op.apply(x, &mut self.r, &mut self.partials);
+            for_each_mut(&mut self.r, |i, ri| *ri = b[i] - *ri);
+            if norm(&self.r, &mut self.partials) <= target {
+                converged = true;
+                break;
+            }
+            if iterations >= options.max_iterations {
+                break;
+            }
+            iterations += self.iterate(&op, x, target, options.max_iterations - iterations);
+        }
+        if options.null_space == NullSpace::Constant {
+            remove_mean(x, &mut self.partials);
+        }
+        let relative_residual = self.projected_residual(a, b, x, options.null_space) / b_norm;
+        Outcome {
+            converged: converged && relative_residual.is_finite(),
+            iterations,
+            relative_residual,
+        }
+    }
+
+    /// One BiCGStab cycle from the current true residual in `self.r`. Returns the iterations
+    /// spent; stops on convergence of the recursive residual, breakdown, or the budget.
+    fn iterate(&mut self, op: &Operator, x: &mut [f64], target: f64, budget: usize) -> usize {
+        let Self {
+            r,
+            r_hat,
+            p,
+            v,
+            s,
+            t,
+            y,
+            z,
+            inv_diag,
+            partials,
+        } = self;
+        r_hat.copy_from_slice(r);
+        p.iter_mut().for_each(|e| *e = 0.0);
+        v.iter_mut().for_each(|e| *e = 0.0);
+        let (mut rho, mut alpha, mut omega): (f64, f64, f64) = (1.0, 1.0, 1.0);
+        let tiny = f64::MIN_POSITIVE.sqrt();
+        for k in 0..budget {
+            let rho_new = dot(r_hat, r, partials);
+            if rho_new.abs() < tiny || omega.abs() < tiny {
+                return k; // breakdown: restart from the true residual
+            }
+            let beta = (rho_new / rho) * (alpha / omega);
+            rho = rho_new;
+            {
+                let (r, v) = (&*r, &*v);
+                for_each_mut(p, |i, pi| *pi = r[i] + beta * (*pi - omega * v[i]));
+            }
+            apply_jacobi(inv_diag, p, y);
+            op.apply(y, v, partials);
+            let denominator = dot(r_hat, v, partials);
+            if denominator.abs() < tiny {
+                return k;
+            }
+            alpha = rho / denominator;
+            {
+                let (r, v) = (&*r, &*v);
+                for_each_mut(s, |i, si| *si = r[i] - alpha * v[i]);
+            }
+            if norm(s, partials) <= target {
+                let y = &*y;
+                for_each_mut(x, |i, xi| *xi += alpha * y[i]);
+                return k + 1;
+            }
+            apply_jacobi(inv_diag, s, z);
+            op.apply(z, t, partials);
+            let tt = dot(t, t, partials);
+            omega = if tt > 0.0 {
+                dot(t, s, partials) / tt
+            } else {
+                0.0
+            };
+            {
+                let (y, z) = (&*y, &*z);
+                for_each_mut(x, |i, xi| *xi += alpha * y[i] + omega * z[i]);
+            }
+            {
+                let (s, t) = (&*s, &*t);
+                for_each_mut(r, |i, ri| *ri = s[i] - omega * t[i]);
+            }
+            if norm(r, partials) <= target {
+                return k + 1;
+            }
+        }
+        budget
+    }
+
+    /// ‖b − μ1 − A x‖ with μ the mean of b − A x for a constant null space (μ = 0 otherwise).
+    fn projected_residual(
+        &mut self,
+        a: &CsMat<f64>,
+        b: &[f64],
+        x: &[f64],
+        null_space: NullSpace,
+    ) -> f64 {
+        spmv(a, x, &mut self.r);
+        for_each_mut(&mut self.r, |i, ri| *ri = b[i] - *ri);
+        if null_space == NullSpace::Constant {
+            remove_mean(&mut self.r, &mut self.partials);
+        }
+        norm(&self.r, &mut self.partials)
+    }
+}
+
+fn apply_jacobi(inv_diag: &[f64], x: &[f64], y: &mut [f64]) {
+    for_each_mut(y, |i, yi| *yi = inv_diag[i] * x[i]);
+}
+
+/// Inverse diagonal of `A + shift 1 1ᵀ`; rows with a zero diagonal are left unscaled.
+fn jacobi(a: &CsMat<f64>, shift: f64, inv_diag: &mut [f64]) {
+    inv_diag.iter_mut().for_each(|d| *d = 0.0);
+    for (value, (i, j)) in a.iter() {
+        if i == j {
+            inv_diag[i] += *value;
+        }
+    }
+    for d in inv_diag.iter_mut() {
+        let diag = *d + shift;
+        *d = if diag != 0.0 && diag.is_finite() {
+            1.0 / diag
+        } else {
+            1.0
+        };
+    }
+}
+
+pub(crate) fn mean_abs_diagonal(a: &CsMat<f64>) -> f64 {
+    let n = a.rows().max(1);
+    let total: f64 = a
+        .iter()
+        .filter(|(_, (i, j))| i == j)
+        .map(|(v, _)| v.abs())
+        .sum();
+    if total > 0.0 {
+        total / n as f64
+    } else {
+        1.0
+    }
+}
+
+fn remove_mean(x: &mut [f64], partials: &mut Vec<f64>) {
+    let mean = sum(x, partials) / x.len() as f64;
+    for_each_mut(x, |_, v| *v -= mean);
+}

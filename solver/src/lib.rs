@@ -1,0 +1,229 @@
+//! Sparse linear algebra for rheosph. Knows nothing of SPH.
+//!
+//! The main entry point is [`Solver::solve`]: a CSR matrix (sprs), a right-hand side and an
+//! initial guess go in; the solution and a [`SolveReport`] come out. The primary path is
+//! Jacobi-preconditioned BiCGStab (our own, on sprs), warm-started from the guess; when it does
+//! not reach its tolerance the solver falls back to faer's sparse LU.
+//!
+//! Singular systems whose null space is the constant vector (a pressure Poisson equation on a
+//! closed domain) are handled identically on both paths: both solve
+//!
+//! ```text
+//!     A x + μ 1 = b,    Σ x = 0,
+//! ```
+//!
+//! i.e. the incompatible part of `b` (its component along the left null vector) is absorbed
+//! by one uniform residual μ and the free constant is fixed by a zero mean. The direct path
+//! factorises the bordered matrix `[A s1; s1ᵀ 0]`; the iterative path applies the rank-one
+//! augmented operator `A + (s/n) 1 1ᵀ`, whose solution differs from the bordered one only by
+//! a constant that the zero-mean projection removes (see [`NullSpace`]).
+//!
+//! All reductions are computed over fixed-size blocks and summed in order, so the results do
+//! not depend on the number of threads.
+
+mod bicgstab;
+mod lu;
+pub mod vector;
+
+use sprs::CsMat;
+
+pub use bicgstab::BiCgStabWorkspace;
+
+/// Which algorithm produced the solution.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Method {
+    /// Jacobi-preconditioned BiCGStab.
+    BiCgStab,
+    /// faer sparse LU with partial pivoting.
+    SparseLu,
+}
+
+impl Method {
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::BiCgStab => "bicgstab",
+            Method::SparseLu => "sparse-lu",
+        }
+    }
+}
+
+/// Which solver to try first.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Strategy {
+    /// BiCGStab, falling back to sparse LU when it does not converge.
+    IterativeWithFallback,
+    /// Sparse LU only.
+    Direct,
+}
+
+/// The null space of the matrix, if it is known to be singular.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NullSpace {
+    /// The matrix is non-singular.
+    None,
+    /// Every row sums to zero: `A 1 = 0`. The solution is returned with zero mean, and the
+    /// incompatible part of the right-hand side is removed as one uniform shift μ.
+    Constant,
+}
+
+/// Options of one solve.
+#[derive(Clone, Copy, Debug)]
+pub struct SolverOptions {
+    /// Relative tolerance on ‖b − A x‖ / ‖b‖ (Euclidean norms).
+    pub relative_tolerance: f64,
+    /// Absolute floor on ‖b − A x‖, for right-hand sides at round-off level.
+    pub absolute_tolerance: f64,
+    pub max_iterations: usize,
+    pub null_space: NullSpace,
+    pub strategy: Strategy,
+}
+
+impl Default for SolverOptions {
+    fn default() -> Self {
+        Self {
+            relative_tolerance: 1e-8,
+            absolute_tolerance: 0.0,
+            max_iterations: 2000,
+            null_space: NullSpace::None,
+            strategy: Strategy::IterativeWithFallback,
+        }
+    }
+}
+
+/// What a solve did.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SolveReport {
+    /// The method that produced the returned solution.
+    pub method: Method,
+    /// BiCGStab iterations spent (also when the fallback then ran).
+    pub iterations: usize,
+    /// Final true relative residual ‖b − μ1 − A x‖ / ‖b‖ of the returned solution
+    /// (μ = 0 unless the null space is constant). 0 when b = 0.
+    pub relative_residual: f64,
+    /// Whether BiCGStab failed and the sparse LU produced the solution.
+    pub fell_back: bool,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum SolveError {
+    #[error("matrix is {rows}x{cols}, right-hand side has {rhs} entries and guess {guess}")]
+    Dimension {
+        rows: usize,
+        cols: usize,
+        rhs: usize,
+        guess: usize,
+    },
+    #[error("right-hand side or initial guess is not finite")]
+    NonFinite,
+    #[error("sparse LU failed: {0}")]
+    Lu(String),
+    #[error("no method reached the tolerance: best relative residual {0:.3e}")]
+    NotConverged(f64),
+}
+
+/// A reusable solver: owns every work vector, so repeated solves of the same size allocate
+/// nothing.
+#[derive(Default)]
+pub struct Solver {
+    bicgstab: BiCgStabWorkspace,
+}
+
+impl Solver {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Solves `A x = b` (or the null-space-constrained problem, see [`NullSpace`]).
+    ///
+    /// `x` holds the initial guess on entry (the warm start) and the solution on exit. On
+    /// error `x` is left holding the best iterate found.
+    pub fn solve(
+        &mut self,
+        a: &CsMat<f64>,
+        b: &[f64],
+        x: &mut [f64],
+        options: &SolverOptions,
+    ) -> Result<SolveReport, SolveError> {
+        let (rows, cols) = a.shape();
+        if rows != cols || b.len() != rows || x.len() != rows || !a.is_csr() {
+            return Err(SolveError::Dimension {
+                rows,
+                cols,
+                rhs: b.len(),
+                guess: x.len(),
+            });
+        }
+        if !b.iter().chain(x.iter()).all(|v| v.is_finite()) {
+            return Err(SolveError::NonFinite);
+        }
+        let b_norm = vector::norm(b, &mut self.bicgstab.partials);
+        if b_norm == 0.0 {
+            x.iter_mut().for_each(|v| *v = 0.0);
+            return Ok(SolveReport {
+                method: Method::BiCgStab,
+                iterations: 0,
+                relative_residual: 0.0,
+                fell_back: false,
+            });
+        }
+        let mut iterations = 0;
+        let mut best_residual = f64::INFINITY;
+        if options.strategy == Strategy::IterativeWithFallback {
+            let outcome = self.bicgstab.solve(a, b, x, options);
+            iterations = outcome.iterations;
+            best_residual = outcome.relative_residual;
+            if outcome.converged {
+                return Ok(SolveReport {
+                    method: Method::BiCgStab,
+                    iterations,
+                    relative_residual: outcome.relative_residual,
+                    fell_back: false,
+                });
+            }
+        }
+        let fell_back = options.strategy == Strategy::IterativeWithFallback;
+        let mut lu_x = vec![0.0; rows];
+        match lu::solve(a, b, &mut lu_x, options.null_space) {
+            Ok(()) => {
+                let residual = relative_residual(a, b, &lu_x, options.null_space, b_norm);
+                if !residual.is_finite() || residual > best_residual {
+                    return Err(SolveError::NotConverged(best_residual));
+                }
+                x.copy_from_slice(&lu_x);
+                Ok(SolveReport {
+                    method: Method::SparseLu,
+                    iterations,
+                    relative_residual: residual,
+                    fell_back,
+                })
+            }
+            Err(e) if best_residual.is_finite() && fell_back => {
+                let _ = e;
+                Err(SolveError::NotConverged(best_residual))
+            }
+            Err(e) => Err(e),
+        }
+    }
+}
+
+/// True relative residual of `x`, ‖b − μ1 − A x‖/‖b‖, where for a constant null space μ is
+/// the least-squares uniform shift (the mean of b − A x).
+pub fn relative_residual(
+    a: &CsMat<f64>,
+    b: &[f64],
+    x: &[f64],
+    null_space: NullSpace,
+    b_norm: f64,
+) -> f64 {
+    let mut ax = vec![0.0; b.len()];
+    vector::spmv(a, x, &mut ax);
+    let mut r: Vec<f64> = b.iter().zip(&ax).map(|(bi, ai)| bi - ai).collect();
+    if null_space == NullSpace::Constant {
+        let mu = r.iter().sum::<f64>() / r.len() as f64;
+        r.iter_mut().for_each(|v| *v -= mu);
+    }
+    r.iter().map(|v| v * v).sum::<f64>().sqrt() / b_norm
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,301 @@
+//! Solver tests on matrices with known solutions.
+
+use super::*;
+use sprs::TriMat;
+
+/// Index of grid point (i, j) on an m×m grid.
+fn idx(m: usize, i: usize, j: usize) -> usize {
+    i * m + j
+}
+
+/// 5-point Laplacian (−Δ, scaled by h²) with homogeneous Dirichlet boundaries: SPD.
+fn dirichlet_laplacian(m: usize) -> CsMat<f64> {
+    let mut t = TriMat::new((m * m, m * m));
+    for i in 0..m {
+        for j in 0..m {
+            let k = idx(m, i, j);
+            t.add_triplet(k, k, 4.0);
+            if i > 0 {
+                t.add_triplet(k, idx(m, i - 1, j), -1.0);
+            }
+            if i + 1 < m {
+                t.add_triplet(k, idx(m, i + 1, j), -1.0);
+            }
+            if j > 0 {
+                t.add_triplet(k, idx(m, i, j - 1), -1.0);
+            }
+            if j + 1 < m {
+                t.add_triplet(k, idx(m, i, j + 1), -1.0);
+            }
+        }
+    }
+    t.to_csr()
+}
+
+/// Upwind convection–diffusion −Δu + c(x,y)·∇u on an m×m grid. Dirichlet (non-singular) or
+/// periodic (rows sum to zero: singular with the constant right null vector; the variable
+/// velocity makes it non-symmetric with a left null vector different from 1).
+fn convection_diffusion(m: usize, periodic: bool, peclet: f64) -> CsMat<f64> {
+    let mut t = TriMat::new((m * m, m * m));
+    let h = 1.0 / m as f64;
+    for i in 0..m {
+        for j in 0..m {
+            let k = idx(m, i, j);
+            let (x, y) = (i as f64 * h, j as f64 * h);
+            let cx = peclet * (2.0 * std::f64::consts::PI * y).sin();
+            let cy = peclet * 0.5 * (2.0 * std::f64::consts::PI * x).cos();
+            // neighbours: (di, dj, coefficient) of diffusion plus upwind convection, all ×h².
+            let mut diag = 0.0;
+            for (di, dj, c) in [(-1i64, 0i64, cx), (1, 0, -cx), (0, -1, cy), (0, 1, -cy)] {
+                // Upwind: flow from the (−) side when c > 0.
+                let convective = (c * h).max(0.0);
+                let off = -1.0 - convective;
+                diag -= off;
+                let (ni, nj) = (i as i64 + di, j as i64 + dj);
+                let inside = (0..m as i64).contains(&ni) && (0..m as i64).contains(&nj);
+                if inside || periodic {
+                    let ni = ni.rem_euclid(m as i64) as usize;
+                    let nj = nj.rem_euclid(m as i64) as usize;
+                    t.add_triplet(k, idx(m, ni, nj), off);
+                }
+            }
+            t.add_triplet(k, k, diag);
+        }
+    }
+    t.to_csr()
+}
+
+fn smooth_field(n: usize) -> Vec<f64> {
+    (0..n)
+        .map(|k| ((k as f64) * 0.37).sin() + 0.5 * ((k as f64) * 0.011).cos())
+        .collect()
+}
+
+fn matvec(a: &CsMat<f64>, x: &[f64]) -> Vec<f64> {
+    let mut y = vec![0.0; x.len()];
+    vector::spmv(a, x, &mut y);
+    y
+}
+
+fn max_diff(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+}
+
+fn remove_mean(x: &mut [f64]) {
+    let mean = x.iter().sum::<f64>() / x.len() as f64;
+    x.iter_mut().for_each(|v| *v -= mean);
+}
+
+#[test]
+fn bicgstab_solves_dirichlet_laplacian() {
+    let a = dirichlet_laplacian(40);
+    let exact = smooth_field(1600);
+    let b = matvec(&a, &exact);
+    let mut x = vec![0.0; 1600];
+    let report = Solver::new()
+        .solve(&a, &b, &mut x, &SolverOptions::default())
+        .unwrap();
+    assert_eq!(report.method, Method::BiCgStab);
+    assert!(!report.fell_back);
+    assert!(report.relative_residual <= 1e-8, "{report:?}");
+    // cond(A) ~ 700 for m = 40, so a 1e-8 residual bounds the error by ~1e-5 of |x|.
+    assert!(
+        max_diff(&x, &exact) < 1e-5,
+        "error {}",
+        max_diff(&x, &exact)
+    );
+}
+
+#[test]
+fn bicgstab_solves_nonsymmetric_convection_diffusion() {
+    let a = convection_diffusion(30, false, 40.0);
+    let exact = smooth_field(900);
+    let b = matvec(&a, &exact);
+    let mut x = vec![0.0; 900];
+    let options = SolverOptions {
+        relative_tolerance: 1e-10,
+        ..Default::default()
+    };
+    let report = Solver::new().solve(&a, &b, &mut x, &options).unwrap();
+    assert_eq!(report.method, Method::BiCgStab);
+    assert!(
+        max_diff(&x, &exact) < 1e-7,
+        "error {}",
+        max_diff(&x, &exact)
+    );
+}
+
+#[test]
+fn direct_lu_solves_nonsymmetric_convection_diffusion() {
+    let a = convection_diffusion(30, false, 40.0);
+    let exact = smooth_field(900);
+    let b = matvec(&a, &exact);
+    let mut x = vec![0.0; 900];
+    let options = SolverOptions {
+        strategy: Strategy::Direct,
+        ..Default::default()
+    };
+    let report = Solver::new().solve(&a, &b, &mut x, &options).unwrap();
+    assert_eq!(report.method, Method::SparseLu);
+    assert!(!report.fell_back);
+    assert!(report.relative_residual < 1e-12);
+    assert!(max_diff(&x, &exact) < 1e-10);
+}
+
+/// Guards the closed-domain pressure problem: a singular, non-symmetric matrix with A1 = 0 and
+/// an incompatible right-hand side b = A x* + μ* 1. Both paths must return the same zero-mean
+/// x* (and absorb exactly μ*), not two different members of the null space.
+#[test]
+fn constant_null_space_is_removed_identically_on_both_paths() {
+    let m = 24;
+    let a = convection_diffusion(m, true, 25.0);
+    let row_sum_max = (0..m * m)
+        .map(|i| {
+            a.outer_view(i)
+                .unwrap()
+                .iter()
+                .map(|(_, v)| *v)
+                .sum::<f64>()
+                .abs()
+        })
+        .fold(0.0, f64::max);
+    assert!(row_sum_max < 1e-12, "rows must sum to zero");
+    let mut exact = smooth_field(m * m);
+    remove_mean(&mut exact);
+    let mu = 0.3;
+    let b: Vec<f64> = matvec(&a, &exact).iter().map(|v| v + mu).collect();
+
+    let iterative = SolverOptions {
+        null_space: NullSpace::Constant,
+        relative_tolerance: 1e-11,
+        ..Default::default()
+    };
+    let direct = SolverOptions {
+        strategy: Strategy::Direct,
+        ..iterative
+    };
+    let mut x_iter = vec![0.0; m * m];
+    let mut x_lu = vec![0.0; m * m];
+    let r_iter = Solver::new()
+        .solve(&a, &b, &mut x_iter, &iterative)
+        .unwrap();
+    let r_lu = Solver::new().solve(&a, &b, &mut x_lu, &direct).unwrap();
+    assert_eq!(r_iter.method, Method::BiCgStab);
+    assert_eq!(r_lu.method, Method::SparseLu);
+    assert!(
+        max_diff(&x_iter, &exact) < 1e-7,
+        "iterative {}",
+        max_diff(&x_iter, &exact)
+    );
+    assert!(
+        max_diff(&x_lu, &exact) < 1e-9,
+        "lu {}",
+        max_diff(&x_lu, &exact)
+    );
+    assert!(max_diff(&x_iter, &x_lu) < 1e-7);
+    assert!(x_iter.iter().sum::<f64>().abs() < 1e-9);
+}
+
+#[test]
+fn warm_start_from_solution_costs_no_iterations_and_near_guess_costs_fewer() {
+    let a = dirichlet_laplacian(40);
+    let exact = smooth_field(1600);
+    let b = matvec(&a, &exact);
+    let options = SolverOptions::default();
+    let mut solver = Solver::new();
+
+    let mut x = exact.clone();
+    let warm = solver.solve(&a, &b, &mut x, &options).unwrap();
+    assert_eq!(warm.iterations, 0);
+
+    let mut cold_x = vec![0.0; 1600];
+    let cold = solver.solve(&a, &b, &mut cold_x, &options).unwrap();
+    let mut near: Vec<f64> = exact
+        .iter()
+        .enumerate()
+        .map(|(k, v)| v + 1e-4 * ((k % 7) as f64))
+        .collect();
+    let near_report = solver.solve(&a, &b, &mut near, &options).unwrap();
+    assert!(
+        near_report.iterations < cold.iterations,
+        "{near_report:?} vs {cold:?}"
+    );
+}
+
+#[test]
+fn falls_back_to_lu_when_bicgstab_runs_out_of_iterations() {
+    let a = convection_diffusion(30, false, 40.0);
+    let exact = smooth_field(900);
+    let b = matvec(&a, &exact);
+    let mut x = vec![0.0; 900];
+    let options = SolverOptions {
+        max_iterations: 2,
+        ..Default::default()
+    };
+    let report = Solver::new().solve(&a, &b, &mut x, &options).unwrap();
+    assert_eq!(report.method, Method::SparseLu);
+    assert!(report.fell_back);
+    assert_eq!(report.iterations, 2);
+    assert!(max_diff(&x, &exact) < 1e-10);
+}
+
+#[test]
+fn zero_right_hand_side_gives_zero() {
+    let a = dirichlet_laplacian(5);
+    let mut x = vec![1.0; 25];
+    let report = Solver::new()
+        .solve(&a, &[0.0; 25], &mut x, &SolverOptions::default())
+        .unwrap();
+    assert!(x.iter().all(|v| *v == 0.0));
+    assert_eq!(report.iterations, 0);
+}
+
+#[test]
+fn mismatched_sizes_and_non_finite_input_are_errors() {
+    let a = dirichlet_laplacian(5);
+    let mut x = vec![0.0; 24];
+    assert!(matches!(
+        Solver::new().solve(&a, &[1.0; 25], &mut x, &SolverOptions::default()),
+        Err(SolveError::Dimension { .. })
+    ));
+    let mut x = vec![0.0; 25];
+    let mut b = vec![1.0; 25];
+    b[3] = f64::NAN;
+    assert!(matches!(
+        Solver::new().solve(&a, &b, &mut x, &SolverOptions::default()),
+        Err(SolveError::NonFinite)
+    ));
+}
+
+/// Reductions are blocked and summed in order: one thread and two threads must give
+/// bit-identical solutions on a system large enough to run in parallel.
+#[test]
+fn result_does_not_depend_on_thread_count() {
+    let a = convection_diffusion(120, true, 25.0);
+    let n = 120 * 120;
+    let mut exact = smooth_field(n);
+    remove_mean(&mut exact);
+    let b = matvec(&a, &exact);
+    let options = SolverOptions {
+        null_space: NullSpace::Constant,
+        ..Default::default()
+    };
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let mut x = vec![0.0; n];
+            let report = Solver::new().solve(&a, &b, &mut x, &options).unwrap();
+            (x, report.iterations)
+        })
+    };
+    let (x1, i1) = run(1);
+    let (x2, i2) = run(2);
+    assert_eq!(i1, i2);
+    assert!(x1.iter().zip(&x2).all(|(a, b)| a.to_bits() == b.to_bits()));
+}
