@@ -1,1 +1,7 @@
-pub fn placeholder() {}
+//! rheosph: incompressible SPH for viscoelastic flows (King & Lind 2021).
+pub mod boundary;
+pub mod kernel;
+pub mod math;
+pub mod neighbours;
+pub mod operators;
+pub mod rheology;
