@@ -1,0 +1,5 @@
+//! Analytic reference solutions.
+
+pub mod waters_king;
+
+pub use waters_king::StartupPoiseuille;
