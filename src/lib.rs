@@ -1,10 +1,27 @@
-//! rheosph: incompressible SPH for viscoelastic flows (King & Lind 2021).
+//! rheosph: incompressible SPH for viscoelastic flows, after King & Lind (2021), *High
+//! Weissenberg number simulations with incompressible SPH and the log-conformation
+//! formulation*. Equation numbers in doc comments refer to that paper.
+//!
+//! One module per physical idea: [`kernel`], [`neighbours`], [`boundary`], [`operators`],
+//! [`rheology`], [`shifting`], [`pressure`], [`step`]; the run around them in [`run`], with
+//! [`case`] files, [`scene`] builders, [`analytic`] references, [`diagnostics`], [`io`] and
+//! [`plot`].
+
 pub mod analytic;
 pub mod boundary;
+pub mod case;
+pub mod cli;
+pub mod diagnostics;
+pub mod io;
 pub mod kernel;
 pub mod math;
 pub mod neighbours;
 pub mod operators;
+pub mod plot;
 pub mod pressure;
 pub mod rheology;
+pub mod run;
+pub mod scene;
 pub mod shifting;
+pub mod step;
+pub mod timing;

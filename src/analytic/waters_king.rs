@@ -40,7 +40,9 @@ pub struct StartupPoiseuille {
 }
 
 /// Time-dependent mode amplitudes at one instant, pre-multiplied by their series factors:
-/// `u_coeff[n] = 32 G_n/N³`, `tau_coeff[n] = 32 H_n/N²`.
+/// `u_coeff[n] = 32 G_n/N³`, `tau_coeff[n] = 32 H_n/N²`. Trailing modes whose summed
+/// magnitudes fall below [`TAIL_TOLERANCE`] are dropped: once the short-lived high modes have
+/// decayed (t ≫ βWi) a handful of terms suffice.
 #[derive(Clone, Debug, Default)]
 pub struct Modes {
     pub u_coeff: Vec<f64>,
@@ -51,6 +53,9 @@ pub struct Modes {
 const MAX_TERMS: usize = 20_000;
 /// Default bound on the velocity series truncation error.
 const VELOCITY_TOLERANCE: f64 = 1e-6;
+/// Modes are dropped from the end while the sum of their |coefficients| (a rigorous bound on
+/// their contribution, |sin|, |cos| ≤ 1) stays below this.
+pub const TAIL_TOLERANCE: f64 = 1e-10;
 
 impl StartupPoiseuille {
     /// `wi = 0` is the Newtonian fluid (β is then irrelevant and taken as 1).
@@ -102,6 +107,22 @@ impl StartupPoiseuille {
             modes.u_coeff[n] = 32.0 * g / big_n.powi(3);
             modes.tau_coeff[n] = 32.0 * h / (big_n * big_n);
         }
+        let mut tail = 0.0;
+        let mut keep = self.terms;
+        while keep > 1 {
+            // Both series: the τ coefficients carry one power of N less, so bound them too
+            // (the shear rate uses N·u_coeff, the same magnitude).
+            let c = modes.u_coeff[keep - 1]
+                .abs()
+                .max(modes.tau_coeff[keep - 1].abs());
+            if tail + c > TAIL_TOLERANCE {
+                break;
+            }
+            tail += c;
+            keep -= 1;
+        }
+        modes.u_coeff.truncate(keep);
+        modes.tau_coeff.truncate(keep);
     }
 
     pub fn modes(&self, t: f64) -> Modes {

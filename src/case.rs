@@ -1,0 +1,575 @@
+//! Case files: the TOML schema, `--set` overrides, and validation into typed settings.
+//!
+//! A case states dimensional inputs (SI or any consistent units). Validation turns the raw
+//! file into a [`Case`] once; nothing downstream re-checks strings or ranges. Every error
+//! names the file and the dotted field.
+
+use crate::kernel::{H_OVER_DR, SUPPORT_OVER_H};
+use crate::rheology::{ConformationScheme, Fluid, Model};
+use serde::{Deserialize, Serialize};
+use std::fmt;
+use std::path::Path;
+
+/// A bad case file or override: one line naming the file and the field.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CaseError {
+    pub file: String,
+    pub field: String,
+    pub message: String,
+}
+
+impl fmt::Display for CaseError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.field.is_empty() {
+            write!(f, "{}: {}", self.file, self.message)
+        } else {
+            write!(f, "{}: field `{}`: {}", self.file, self.field, self.message)
+        }
+    }
+}
+
+impl std::error::Error for CaseError {}
+
+// ---------------------------------------------------------------------------------------
+// The file as written.
+
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CaseFile {
+    pub scene: SceneSpec,
+    pub fluid: FluidSpec,
+    #[serde(default)]
+    pub scheme: SchemeSpec,
+    pub run: RunSpec,
+}
+
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum SceneKind {
+    /// Periodic channel between two no-slip walls at y = 0 and y = height.
+    Channel,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneSpec {
+    pub kind: SceneKind,
+    /// Periodic length along x.
+    pub length: f64,
+    /// Distance between the walls, H.
+    pub height: f64,
+    /// Particles across the height, H/δr.
+    pub resolution: usize,
+    /// Body force per unit mass g.
+    pub body_force: [f64; 2],
+}
+
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum ModelName {
+    Newtonian,
+    OldroydB,
+    Ucm,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FluidSpec {
+    pub model: ModelName,
+    /// ρ.
+    pub density: f64,
+    /// Total viscosity η0.
+    pub viscosity: f64,
+    /// η_s/η0 (viscoelastic models; UCM: 0).
+    pub beta: Option<f64>,
+    /// λ (viscoelastic models).
+    pub relaxation_time: Option<f64>,
+}
+
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum FrameName {
+    Lagrangian,
+    Eulerian,
+}
+
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum ConformationName {
+    Log,
+    Direct,
+}
+
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum WallConformation {
+    Even,
+    Reflected,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SchemeSpec {
+    pub frame: FrameName,
+    pub conformation: ConformationName,
+    pub shifting: bool,
+    /// α_V of the EVSS splitting, eqs. (6)–(8).
+    pub evss_alpha: f64,
+    /// The factor 0.2 of the time-step rule (28).
+    pub dt_factor: f64,
+    /// Relative residual at which BiCGStab stops.
+    pub ppe_tolerance: f64,
+    /// BiCGStab iteration budget before the sparse-LU fallback.
+    pub ppe_max_iterations: usize,
+    /// How the conformation is carried onto wall mirrors.
+    pub wall_conformation: WallConformation,
+}
+
+impl Default for SchemeSpec {
+    fn default() -> Self {
+        Self {
+            frame: FrameName::Lagrangian,
+            conformation: ConformationName::Log,
+            shifting: true,
+            evss_alpha: 0.0,
+            dt_factor: 0.2,
+            ppe_tolerance: 1e-8,
+            ppe_max_iterations: 1000,
+            wall_conformation: WallConformation::Even,
+        }
+    }
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RunSpec {
+    pub end_time: f64,
+    /// Time between rows of `series.csv` (default end_time/300).
+    pub output_interval: Option<f64>,
+}
+
+// ---------------------------------------------------------------------------------------
+// Validated settings.
+
+/// How particles move: ALE with shifting, or fixed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Frame {
+    /// Particles move with u + u_ps (u_ps from shifting, or 0).
+    Lagrangian,
+    /// Particles fixed, u_ps = −u; steps 1 and 7 omitted.
+    Eulerian,
+}
+
+/// Numerical scheme settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Scheme {
+    pub frame: Frame,
+    pub conformation: ConformationScheme,
+    pub shifting: bool,
+    pub evss_alpha: f64,
+    pub dt_factor: f64,
+    pub ppe_tolerance: f64,
+    pub ppe_max_iterations: usize,
+    pub wall_conformation: crate::boundary::TensorMirror,
+}
+
+/// The channel geometry.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Channel {
+    pub length: f64,
+    pub height: f64,
+    pub resolution: usize,
+    pub body_force: [f64; 2],
+}
+
+impl Channel {
+    pub fn spacing(&self) -> f64 {
+        self.height / self.resolution as f64
+    }
+
+    pub fn columns(&self) -> usize {
+        (self.length / self.spacing()).round() as usize
+    }
+
+    pub fn particles(&self) -> usize {
+        self.columns() * self.resolution
+    }
+}
+
+/// A validated case.
+#[derive(Clone, Debug)]
+pub struct Case {
+    pub name: String,
+    pub channel: Channel,
+    pub fluid: Fluid,
+    pub scheme: Scheme,
+    pub end_time: f64,
+    pub output_interval: f64,
+    /// The file as given (after overrides), echoed into the run summary.
+    pub source: CaseFile,
+}
+
+/// Numbers derived from a case, computed in one place and printed at start-up.
+#[derive(Clone, Debug, Serialize)]
+pub struct Derived {
+    pub particle_spacing: f64,
+    pub smoothing_length: f64,
+    pub particles: usize,
+    /// Steady centre-line velocity U = ρ g H²/(8 η0).
+    pub velocity_scale: f64,
+    pub reynolds: f64,
+    pub weissenberg: f64,
+    pub elasticity: f64,
+    pub beta: f64,
+    /// δt limits of eq. (28) with the factor: viscous 0.2ρh²/η0, advective 0.2h/U.
+    pub dt_viscous: f64,
+    pub dt_advective_at_u: f64,
+    pub estimated_steps: f64,
+}
+
+impl Case {
+    /// Derived numbers (see [`Derived`]).
+    pub fn derived(&self) -> Derived {
+        let c = &self.channel;
+        let dr = c.spacing();
+        let h = H_OVER_DR * dr;
+        let f = &self.fluid;
+        let u = f.density * c.body_force[0].abs() * c.height * c.height / (8.0 * f.viscosity);
+        let re = f.density * u * c.height / f.viscosity;
+        let wi = f.relaxation_time * u / c.height;
+        let dt_viscous = self.scheme.dt_factor * f.density * h * h / f.viscosity;
+        let dt_advective = if u > 0.0 {
+            self.scheme.dt_factor * h / u
+        } else {
+            f64::INFINITY
+        };
+        Derived {
+            particle_spacing: dr,
+            smoothing_length: h,
+            particles: c.particles(),
+            velocity_scale: u,
+            reynolds: re,
+            weissenberg: wi,
+            elasticity: if re > 0.0 { wi / re } else { 0.0 },
+            beta: f.beta,
+            dt_viscous,
+            dt_advective_at_u: dt_advective,
+            estimated_steps: self.end_time / dt_viscous.min(dt_advective),
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Loading.
+
+/// Reads, overrides and validates a case file.
+pub fn load(path: &Path, overrides: &[String]) -> Result<Case, CaseError> {
+    let file = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| CaseError {
+        file: file.clone(),
+        field: String::new(),
+        message: format!("cannot read: {e}"),
+    })?;
+    let name = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "case".into());
+    parse(&text, &file, &name, overrides)
+}
+
+/// Parses case text (see [`load`]).
+pub fn parse(text: &str, file: &str, name: &str, overrides: &[String]) -> Result<Case, CaseError> {
+    let err = |field: &str, message: String| CaseError {
+        file: file.to_string(),
+        field: field.to_string(),
+        message,
+    };
+    let mut table: toml::Table = toml::from_str(text).map_err(|e| {
+        let line = e
+            .span()
+            .map(|s| text[..s.start.min(text.len())].lines().count().max(1));
+        let message = e.message().trim().replace('\n', "; ");
+        match line {
+            Some(l) => err("", format!("not valid TOML at line {l}: {message}")),
+            None => err("", format!("not valid TOML: {message}")),
+        }
+    })?;
+    for o in overrides {
+        apply_override(&mut table, o).map_err(|m| err("", format!("--set {o:?}: {m}")))?;
+    }
+    let raw: CaseFile =
+        serde_path_to_error::deserialize(toml::Value::Table(table)).map_err(|e| {
+            let path = e.path().to_string();
+            let field = if path == "." { String::new() } else { path };
+            err(&field, e.into_inner().message().trim().replace('\n', "; "))
+        })?;
+    validate(raw, name).map_err(|(field, message)| err(&field, message))
+}
+
+/// Sets a dotted key, e.g. `fluid.beta=0.2`. The value is read as TOML (number, boolean,
+/// array, quoted string) and otherwise taken as a bare string (`scheme.frame=eulerian`).
+pub fn apply_override(table: &mut toml::Table, assignment: &str) -> Result<(), String> {
+    let (key, value) = assignment.split_once('=').ok_or("expected key=value")?;
+    let key = key.trim();
+    if key.is_empty() || key.split('.').any(|k| k.trim().is_empty()) {
+        return Err("empty key".into());
+    }
+    let value = value.trim();
+    if value.is_empty() {
+        return Err("empty value".into());
+    }
+    let parsed = toml::from_str::<toml::Table>(&format!("v = {value}"))
+        .ok()
+        .and_then(|mut t| t.remove("v"))
+        .unwrap_or_else(|| toml::Value::String(value.to_string()));
+    let parts: Vec<&str> = key.split('.').map(str::trim).collect();
+    let mut current = table;
+    for part in &parts[..parts.len() - 1] {
+        let entry = current
+            .entry(part.to_string())
+            .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+        current = entry
+            .as_table_mut()
+            .ok_or_else(|| format!("`{part}` is not a table"))?;
+    }
+    current.insert(parts[parts.len() - 1].to_string(), parsed);
+    Ok(())
+}
+
+type FieldError = (String, String);
+
+fn field_err(field: &str, message: impl Into<String>) -> FieldError {
+    (field.to_string(), message.into())
+}
+
+fn positive(field: &str, v: f64) -> Result<f64, FieldError> {
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(field_err(
+            field,
+            format!("must be a positive number, got {v}"),
+        ))
+    }
+}
+
+fn in_range(field: &str, v: f64, lo: f64, hi: f64) -> Result<f64, FieldError> {
+    if v.is_finite() && v >= lo && v <= hi {
+        Ok(v)
+    } else {
+        Err(field_err(
+            field,
+            format!("must be in [{lo}, {hi}], got {v}"),
+        ))
+    }
+}
+
+fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
+    let scene = &raw.scene;
+    let length = positive("scene.length", scene.length)?;
+    let height = positive("scene.height", scene.height)?;
+    // The kernel support is 3h = 3.9δr: mirrors of the two walls must not meet
+    // (H ≥ 2 supports) and a periodic box needs three cells of one support each.
+    let support_in_dr = SUPPORT_OVER_H * H_OVER_DR;
+    let min_resolution = (2.0 * support_in_dr).ceil() as usize;
+    if scene.resolution < min_resolution {
+        return Err(field_err(
+            "scene.resolution",
+            format!(
+                "must be at least {min_resolution} particles across the height (two kernel supports of {support_in_dr}δr), got {}",
+                scene.resolution
+            ),
+        ));
+    }
+    let dr = height / scene.resolution as f64;
+    let columns = length / dr;
+    if (columns - columns.round()).abs() > 1e-6 * columns {
+        return Err(field_err(
+            "scene.length",
+            format!("must be a whole number of particle spacings height/resolution = {dr}, got {columns:.4} spacings"),
+        ));
+    }
+    if columns.round() < (3.0 * support_in_dr).ceil() {
+        return Err(field_err(
+            "scene.length",
+            format!("the periodic length must hold three kernel supports ({:.0} spacings), got {columns:.0}", (3.0 * support_in_dr).ceil()),
+        ));
+    }
+    for (k, g) in scene.body_force.iter().enumerate() {
+        if !g.is_finite() {
+            return Err(field_err(
+                "scene.body_force",
+                format!("component {k} is not finite"),
+            ));
+        }
+    }
+    if scene.body_force[1] != 0.0 {
+        return Err(field_err(
+            "scene.body_force",
+            "a channel is driven along x: the y component must be 0",
+        ));
+    }
+
+    let f = &raw.fluid;
+    let density = positive("fluid.density", f.density)?;
+    let viscosity = positive("fluid.viscosity", f.viscosity)?;
+    let model = match f.model {
+        ModelName::Newtonian => Model::Newtonian,
+        ModelName::OldroydB => Model::OldroydB,
+        ModelName::Ucm => Model::Ucm,
+    };
+    let (beta, relaxation_time) = match model {
+        Model::Newtonian => {
+            if f.relaxation_time.is_some_and(|l| l != 0.0) {
+                return Err(field_err(
+                    "fluid.relaxation_time",
+                    "a Newtonian fluid has no relaxation time (omit it or set 0)",
+                ));
+            }
+            if f.beta.is_some_and(|b| b != 1.0) {
+                return Err(field_err(
+                    "fluid.beta",
+                    "a Newtonian fluid is all solvent: β must be 1 (or omitted)",
+                ));
+            }
+            (1.0, 0.0)
+        }
+        Model::OldroydB | Model::Ucm => {
+            let lambda = f.relaxation_time.ok_or_else(|| {
+                field_err("fluid.relaxation_time", "required for a viscoelastic model")
+            })?;
+            let lambda = positive("fluid.relaxation_time", lambda)?;
+            let beta = if model == Model::Ucm {
+                match f.beta {
+                    Some(b) if b != 0.0 => {
+                        return Err(field_err(
+                            "fluid.beta",
+                            format!("UCM has no solvent viscosity: β must be 0, got {b}"),
+                        ));
+                    }
+                    _ => 0.0,
+                }
+            } else {
+                let b = f
+                    .beta
+                    .ok_or_else(|| field_err("fluid.beta", "required for oldroyd-b"))?;
+                in_range("fluid.beta", b, 0.0, 1.0)?
+            };
+            (beta, lambda)
+        }
+    };
+
+    let s = &raw.scheme;
+    let evss_alpha = in_range("scheme.evss_alpha", s.evss_alpha, 0.0, 1.0)?;
+    let dt_factor = s.dt_factor;
+    if !(dt_factor.is_finite() && dt_factor > 0.0) {
+        return Err(field_err(
+            "scheme.dt_factor",
+            format!("must be a positive number, got {dt_factor}"),
+        ));
+    }
+    let ppe_tolerance = s.ppe_tolerance;
+    if !(ppe_tolerance > 0.0 && ppe_tolerance < 1.0) {
+        return Err(field_err(
+            "scheme.ppe_tolerance",
+            format!("must be in (0, 1), got {ppe_tolerance}"),
+        ));
+    }
+    if s.ppe_max_iterations == 0 {
+        return Err(field_err("scheme.ppe_max_iterations", "must be at least 1"));
+    }
+
+    let end_time = positive("run.end_time", raw.run.end_time)?;
+    let output_interval = match raw.run.output_interval {
+        Some(dt) => positive("run.output_interval", dt)?,
+        None => end_time / 300.0,
+    };
+
+    Ok(Case {
+        name: name.to_string(),
+        channel: Channel {
+            length,
+            height,
+            resolution: scene.resolution,
+            body_force: scene.body_force,
+        },
+        fluid: Fluid {
+            model,
+            density,
+            viscosity,
+            beta,
+            relaxation_time,
+        },
+        scheme: Scheme {
+            frame: match s.frame {
+                FrameName::Lagrangian => Frame::Lagrangian,
+                FrameName::Eulerian => Frame::Eulerian,
+            },
+            conformation: match s.conformation {
+                ConformationName::Log => ConformationScheme::Log,
+                ConformationName::Direct => ConformationScheme::Direct,
+            },
+            shifting: s.shifting,
+            evss_alpha,
+            dt_factor,
+            ppe_tolerance,
+            ppe_max_iterations: s.ppe_max_iterations,
+            wall_conformation: match s.wall_conformation {
+                WallConformation::Even => crate::boundary::TensorMirror::Even,
+                WallConformation::Reflected => crate::boundary::TensorMirror::Reflected,
+            },
+        },
+        end_time,
+        output_interval,
+        source: raw,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const POISEUILLE: &str = include_str!("../cases/poiseuille.toml");
+
+    #[test]
+    fn shipped_case_is_valid_with_paper_parameters() {
+        let case = parse(POISEUILLE, "poiseuille.toml", "poiseuille", &[]).unwrap();
+        let d = case.derived();
+        assert!((d.reynolds - 1.0).abs() < 1e-12);
+        assert!((d.weissenberg - 1.0).abs() < 1e-12);
+        assert_eq!(d.particles, 900);
+        assert_eq!(case.fluid.beta, 0.1);
+    }
+
+    #[test]
+    fn overrides_reach_any_dotted_key() {
+        let case = parse(
+            POISEUILLE,
+            "p.toml",
+            "p",
+            &[
+                "fluid.beta=0.3".into(),
+                "scheme.frame=eulerian".into(),
+                "scene.resolution=15".into(),
+            ],
+        )
+        .unwrap();
+        assert_eq!(case.fluid.beta, 0.3);
+        assert_eq!(case.scheme.frame, Frame::Eulerian);
+        assert_eq!(case.channel.resolution, 15);
+    }
+
+    #[test]
+    fn errors_name_the_file_and_field() {
+        let e = parse(POISEUILLE, "p.toml", "p", &["fluid.beta=1.5".into()]).unwrap_err();
+        assert_eq!(e.field, "fluid.beta");
+        assert!(
+            e.to_string().starts_with("p.toml: field `fluid.beta`"),
+            "{e}"
+        );
+        let e = parse(POISEUILLE, "p.toml", "p", &["fluid.colour=3".into()]).unwrap_err();
+        assert!(e.to_string().contains("colour"), "{e}");
+        let e = parse(POISEUILLE, "p.toml", "p", &["nonsense".into()]).unwrap_err();
+        assert!(e.to_string().contains("--set"), "{e}");
+    }
+}

@@ -1,0 +1,101 @@
+//! The command line: argument types and dispatch. Each subcommand converts its raw arguments
+//! into typed settings once (a validated [`Case`](crate::case::Case)) and calls the library.
+
+use crate::case::{self, CaseError};
+use crate::run::{self, Outcome, RunOptions};
+use clap::{Args, Parser, Subcommand};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "rheosph",
+    version,
+    about = "Incompressible SPH for viscoelastic flows (King & Lind 2021)"
+)]
+pub struct Cli {
+    /// No progress bar or start-up report.
+    #[arg(short, long, global = true)]
+    pub quiet: bool,
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Run a case to its end time (or breakdown) and write a run directory.
+    Run(RunArgs),
+    /// Validate a case file and print its derived numbers without running it.
+    Check(CaseArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct CaseArgs {
+    /// The case file (TOML).
+    pub case: PathBuf,
+    /// Override any dotted key of the case file, e.g. `--set fluid.beta=0.2`.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+}
+
+#[derive(Args, Debug)]
+pub struct RunArgs {
+    #[command(flatten)]
+    pub case: CaseArgs,
+    /// Output directory (default: runs/<case name>).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Skip the PNG charts.
+    #[arg(long)]
+    pub no_charts: bool,
+}
+
+/// Exit code for a run that broke down (a result, not a crash).
+pub const EXIT_BROKE_DOWN: u8 = 3;
+/// Exit code for bad input.
+pub const EXIT_BAD_INPUT: u8 = 2;
+
+/// Runs the parsed command line.
+pub fn main(cli: Cli) -> ExitCode {
+    match dispatch(cli) {
+        Ok(code) => code,
+        Err(e) => {
+            if let Some(ce) = e.downcast_ref::<CaseError>() {
+                eprintln!("error: {ce}");
+                ExitCode::from(EXIT_BAD_INPUT)
+            } else {
+                eprintln!("error: {e:#}");
+                ExitCode::FAILURE
+            }
+        }
+    }
+}
+
+fn dispatch(cli: Cli) -> anyhow::Result<ExitCode> {
+    match cli.command {
+        Command::Run(args) => {
+            let case = case::load(&args.case.case, &args.case.set)?;
+            let out_dir = args
+                .out
+                .unwrap_or_else(|| PathBuf::from("runs").join(&case.name));
+            let summary = run::run(
+                &case,
+                &RunOptions {
+                    out_dir,
+                    quiet: cli.quiet,
+                    charts: !args.no_charts,
+                },
+            )?;
+            Ok(match summary.outcome {
+                Outcome::Finished => ExitCode::SUCCESS,
+                Outcome::BrokeDown => ExitCode::from(EXIT_BROKE_DOWN),
+            })
+        }
+        Command::Check(args) => {
+            let case = case::load(&args.case, &args.set)?;
+            println!("{}: valid", args.case.display());
+            println!("{}", serde_json::to_string_pretty(&case.derived())?);
+            Ok(ExitCode::SUCCESS)
+        }
+    }
+}

@@ -1,0 +1,214 @@
+//! Run diagnostics: errors against the analytic reference, centre-line velocity, field
+//! statistics.
+
+use crate::analytic::waters_king::{Modes, StartupPoiseuille};
+use crate::case::Case;
+use crate::math::{Sym2, Vec2};
+use rayon::prelude::*;
+
+/// The Waters–King start-up solution in the dimensional units of a channel case.
+pub struct ChannelReference {
+    pub series: StartupPoiseuille,
+    height: f64,
+    /// U, the steady centre-line velocity.
+    pub velocity_scale: f64,
+    /// η0 U / H.
+    pub stress_scale: f64,
+    time_scale: f64,
+    modes: Modes,
+    heights: Vec<f64>,
+}
+
+impl ChannelReference {
+    /// The reference for a channel case driven along x (Newtonian, Oldroyd-B, UCM).
+    pub fn new(case: &Case) -> Self {
+        let d = case.derived();
+        let c = &case.channel;
+        Self {
+            series: StartupPoiseuille::new(d.reynolds, d.weissenberg, case.fluid.beta),
+            height: c.height,
+            velocity_scale: d.velocity_scale,
+            stress_scale: case.fluid.viscosity * d.velocity_scale / c.height,
+            time_scale: c.height / d.velocity_scale,
+            modes: Modes::default(),
+            heights: Vec::new(),
+        }
+    }
+
+    /// Non-dimensional time t U/H.
+    pub fn scaled_time(&self, t: f64) -> f64 {
+        t / self.time_scale
+    }
+
+    /// Exact streamwise velocity at each particle's height, into `out`.
+    pub fn velocity_at(&mut self, positions: &[Vec2], t: f64, out: &mut Vec<f64>) {
+        self.heights.clear();
+        self.heights
+            .extend(positions.iter().map(|p| p.y / self.height));
+        out.resize(positions.len(), 0.0);
+        let tau = self.scaled_time(t);
+        self.series
+            .velocity_profile(&self.heights, tau, &mut self.modes, out);
+        let u = self.velocity_scale;
+        out.iter_mut().for_each(|v| *v *= u);
+    }
+
+    /// Exact centre-line velocity.
+    pub fn centre_velocity(&self, t: f64) -> f64 {
+        self.series.velocity(0.5, self.scaled_time(t)) * self.velocity_scale
+    }
+
+    /// Exact polymer stresses (τ_xy, τ_xx) at heights `y` (dimensional), time t.
+    pub fn stress_profiles(&self, ys: &[f64], t: f64) -> (Vec<f64>, Vec<f64>) {
+        let eta: Vec<f64> = ys.iter().map(|y| y / self.height).collect();
+        let tau = self.scaled_time(t);
+        let s = self.stress_scale;
+        let xy = self
+            .series
+            .shear_stress_profile(&eta, tau)
+            .into_iter()
+            .map(|v| v * s)
+            .collect();
+        let xx = self
+            .series
+            .normal_stress_profile(&eta, tau, 4000)
+            .into_iter()
+            .map(|v| v * s)
+            .collect();
+        (xy, xx)
+    }
+
+    /// Exact velocity at heights `y` (dimensional).
+    pub fn velocity_profile(&self, ys: &[f64], t: f64) -> Vec<f64> {
+        let tau = self.scaled_time(t);
+        let m = self.series.modes(tau);
+        ys.iter()
+            .map(|y| {
+                crate::analytic::waters_king::velocity_from_modes(&m, y / self.height)
+                    * self.velocity_scale
+            })
+            .collect()
+    }
+}
+
+/// Sum of `f(i)` for i < n in fixed blocks added in order: the same rounding whatever the
+/// number of threads (rayon's own `sum` splits adaptively).
+pub fn blocked_sum(n: usize, f: impl Fn(usize) -> f64 + Sync) -> f64 {
+    const BLOCK: usize = 4096;
+    let blocks = n.div_ceil(BLOCK);
+    let partial: Vec<f64> = (0..blocks)
+        .into_par_iter()
+        .map(|b| (b * BLOCK..((b + 1) * BLOCK).min(n)).map(&f).sum())
+        .collect();
+    partial.iter().sum()
+}
+
+/// L2 error `sqrt(mean_i (u_i − u_exact(y_i))²)/U` of the streamwise velocity.
+pub fn l2_error(velocity: &[Vec2], exact: &[f64], scale: f64) -> f64 {
+    let sum = blocked_sum(velocity.len(), |i| (velocity[i].x - exact[i]).powi(2));
+    (sum / velocity.len() as f64).sqrt() / scale
+}
+
+/// Centre-line velocity: a least-squares quadratic u(y) through the particles within 2.5δr
+/// of the centre-line, evaluated at y = H/2. Unbiased for the parabolic profile, unlike the
+/// mean of the two nearest rows (which sit δr/2 off the centre-line).
+pub fn centre_line_velocity(
+    positions: &[Vec2],
+    velocity: &[Vec2],
+    centre: f64,
+    spacing: f64,
+) -> f64 {
+    let band = 2.5 * spacing;
+    // Normal equations for u = a + b s + c s², s = (y − centre)/spacing.
+    let mut m = [[0.0f64; 3]; 3];
+    let mut rhs = [0.0f64; 3];
+    for (p, u) in positions.iter().zip(velocity) {
+        let d = p.y - centre;
+        if d.abs() <= band {
+            let s = d / spacing;
+            let basis = [1.0, s, s * s];
+            for a in 0..3 {
+                rhs[a] += basis[a] * u.x;
+                for b in 0..3 {
+                    m[a][b] += basis[a] * basis[b];
+                }
+            }
+        }
+    }
+    let m = nalgebra::Matrix3::from_fn(|a, b| m[a][b]);
+    match m.lu().solve(&nalgebra::Vector3::from(rhs)) {
+        Some(x) if x[0].is_finite() => x[0],
+        _ => f64::NAN,
+    }
+}
+
+/// Field statistics of one instant.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct FieldStats {
+    /// Σ ½ρ|u|² δV.
+    pub kinetic_energy: f64,
+    pub max_speed: f64,
+    /// Largest tr A (1 at rest; 2 for a Newtonian fluid, which has no A).
+    pub max_trace: f64,
+    /// Smallest det A (≥ 1 for Oldroyd-B in shear; must stay > 0).
+    pub min_det: f64,
+}
+
+pub fn field_stats(
+    velocity: &[Vec2],
+    conformation: &[Sym2],
+    density: f64,
+    volume: f64,
+) -> FieldStats {
+    let kinetic_energy =
+        0.5 * density * volume * blocked_sum(velocity.len(), |i| velocity[i].norm_squared());
+    let max_speed = velocity
+        .par_iter()
+        .map(|u| u.norm())
+        .reduce(|| 0.0, f64::max);
+    let (max_trace, min_det) = if conformation.is_empty() {
+        (2.0, 1.0)
+    } else {
+        (
+            conformation
+                .par_iter()
+                .map(|a| a.trace())
+                .reduce(|| f64::MIN, f64::max),
+            conformation
+                .par_iter()
+                .map(|a| a.det())
+                .reduce(|| f64::MAX, f64::min),
+        )
+    };
+    FieldStats {
+        kinetic_energy,
+        max_speed,
+        max_trace,
+        min_det,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn centre_line_fit_is_exact_for_a_parabola() {
+        let dr = 1.0 / 30.0;
+        let pts: Vec<Vec2> = (0..30)
+            .map(|j| Vec2::new(0.1, (j as f64 + 0.5) * dr))
+            .collect();
+        let vel: Vec<Vec2> = pts
+            .iter()
+            .map(|p| Vec2::new(4.0 * p.y * (1.0 - p.y), 0.0))
+            .collect();
+        let u = centre_line_velocity(&pts, &vel, 0.5, dr);
+        assert!((u - 1.0).abs() < 1e-12, "{u}");
+    }
+
+    #[test]
+    fn l2_error_of_a_uniform_offset() {
+        let v = vec![Vec2::new(1.1, 0.0); 10];
+        assert!((l2_error(&v, &[1.0; 10], 2.0) - 0.05).abs() < 1e-14);
+    }
+}

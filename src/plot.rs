@@ -1,0 +1,177 @@
+//! PNG charts drawn with plotters (bitmap backend, bundled DejaVu font: no system fonts).
+//!
+//! Files are rendered to a temporary name and renamed, so a chart on disk is always whole.
+
+use anyhow::{Context, Result};
+use plotters::prelude::*;
+use plotters::style::FontStyle;
+use std::path::Path;
+use std::sync::Once;
+
+/// How a curve is drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CurveStyle {
+    Line,
+    Dashed,
+    Markers,
+}
+
+/// One data series of a chart.
+#[derive(Clone, Debug)]
+pub struct Curve {
+    pub label: String,
+    pub points: Vec<(f64, f64)>,
+    pub style: CurveStyle,
+    pub color: RGBColor,
+}
+
+/// Axes and title of a chart.
+#[derive(Clone, Debug, Default)]
+pub struct Chart {
+    pub title: String,
+    pub x_label: String,
+    pub y_label: String,
+    /// Logarithmic y axis (data must be positive; others are dropped).
+    pub log_y: bool,
+    /// Logarithmic x axis.
+    pub log_x: bool,
+    /// Optional note drawn in the top-left corner (e.g. a fitted order).
+    pub note: Option<String>,
+}
+
+/// A palette that survives greyscale printing reasonably.
+pub const PALETTE: [RGBColor; 6] = [
+    RGBColor(0, 0, 0),
+    RGBColor(200, 30, 30),
+    RGBColor(30, 90, 200),
+    RGBColor(20, 150, 60),
+    RGBColor(200, 120, 0),
+    RGBColor(130, 40, 160),
+];
+
+fn register_fonts() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        // The bundled font is known-good; a failure here would only lose the labels.
+        let _ = plotters::style::register_font(
+            "sans-serif",
+            FontStyle::Normal,
+            dejavu::sans::regular(),
+        );
+    });
+}
+
+fn transform(v: f64, log: bool) -> Option<f64> {
+    if log {
+        (v > 0.0 && v.is_finite()).then(|| v.log10())
+    } else {
+        v.is_finite().then_some(v)
+    }
+}
+
+/// Draws `curves` to a PNG at `path` (800×560).
+pub fn draw(path: &Path, chart: &Chart, curves: &[Curve]) -> Result<()> {
+    register_fonts();
+    let data: Vec<Vec<(f64, f64)>> = curves
+        .iter()
+        .map(|c| {
+            c.points
+                .iter()
+                .filter_map(|&(x, y)| {
+                    Some((transform(x, chart.log_x)?, transform(y, chart.log_y)?))
+                })
+                .collect()
+        })
+        .collect();
+    let (mut x0, mut x1, mut y0, mut y1) = (
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+    );
+    for &(x, y) in data.iter().flatten() {
+        x0 = x0.min(x);
+        x1 = x1.max(x);
+        y0 = y0.min(y);
+        y1 = y1.max(y);
+    }
+    if !x0.is_finite() {
+        (x0, x1, y0, y1) = (0.0, 1.0, 0.0, 1.0);
+    }
+    if x1 - x0 < 1e-12 {
+        x1 = x0 + 1.0;
+    }
+    let pad = if y1 - y0 < 1e-12 {
+        0.5
+    } else {
+        0.05 * (y1 - y0)
+    };
+    let (y0, y1) = (y0 - pad, y1 + pad);
+
+    let file_name = path
+        .file_name()
+        .context("chart path has no file name")?
+        .to_string_lossy();
+    let tmp = path.with_file_name(format!(".{file_name}.tmp.png"));
+    {
+        let root = BitMapBackend::new(&tmp, (800, 560)).into_drawing_area();
+        root.fill(&WHITE)?;
+        let mut cc = ChartBuilder::on(&root)
+            .caption(&chart.title, ("sans-serif", 22))
+            .margin(12)
+            .x_label_area_size(45)
+            .y_label_area_size(70)
+            .build_cartesian_2d(x0..x1, y0..y1)?;
+        let (log_x, log_y) = (chart.log_x, chart.log_y);
+        let fmt = move |v: &f64, log: bool| {
+            if log {
+                format!("{:.2e}", 10f64.powf(*v))
+            } else {
+                format!("{v:.3}")
+            }
+        };
+        cc.configure_mesh()
+            .x_desc(&chart.x_label)
+            .y_desc(&chart.y_label)
+            .x_label_formatter(&|v| fmt(v, log_x))
+            .y_label_formatter(&|v| fmt(v, log_y))
+            .label_style(("sans-serif", 14))
+            .draw()?;
+        for (curve, pts) in curves.iter().zip(&data) {
+            let color = curve.color;
+            let series = match curve.style {
+                CurveStyle::Line => {
+                    cc.draw_series(LineSeries::new(pts.iter().copied(), color.stroke_width(2)))?
+                }
+                CurveStyle::Dashed => cc.draw_series(DashedLineSeries::new(
+                    pts.iter().copied(),
+                    8,
+                    5,
+                    color.stroke_width(2),
+                ))?,
+                CurveStyle::Markers => {
+                    cc.draw_series(pts.iter().map(|&p| Circle::new(p, 2, color.filled())))?
+                }
+            };
+            if !curve.label.is_empty() {
+                series.label(curve.label.clone()).legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                });
+            }
+        }
+        if curves.iter().any(|c| !c.label.is_empty()) {
+            cc.configure_series_labels()
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .label_font(("sans-serif", 14))
+                .position(SeriesLabelPosition::UpperRight)
+                .draw()?;
+        }
+        if let Some(note) = &chart.note {
+            root.draw_text(note, &("sans-serif", 16).into_text_style(&root), (90, 45))?;
+        }
+        root.present()?;
+    }
+    std::fs::rename(&tmp, path).with_context(|| format!("renaming {}", tmp.display()))?;
+    Ok(())
+}

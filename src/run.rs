@@ -1,0 +1,567 @@
+//! A run: the time loop around [`Simulation`], the analytic comparison, and the run
+//! directory (`series.csv`, `summary.json`, PNG charts).
+
+use crate::case::{Case, Derived};
+use crate::diagnostics::{self, ChannelReference};
+use crate::io::{self, SeriesRow};
+use crate::plot::{self, Chart, Curve, CurveStyle, PALETTE};
+use crate::scene;
+use crate::step::Simulation;
+use crate::timing::{Stage, StageSeconds};
+use anyhow::{Context, Result};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// Options of a run that are not physics.
+#[derive(Clone, Debug)]
+pub struct RunOptions {
+    pub out_dir: PathBuf,
+    /// No progress bar, no start-up report.
+    pub quiet: bool,
+    /// Skip the PNG charts (studies draw their own).
+    pub charts: bool,
+}
+
+/// How a run ended.
+#[derive(Clone, Copy, Debug, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum Outcome {
+    Finished,
+    BrokeDown,
+}
+
+/// The analytic comparison at the first overshoot of the centre-line velocity.
+#[derive(Clone, Debug, Serialize)]
+pub struct Peak {
+    pub t: f64,
+    pub u_centre_exact: f64,
+    pub u_centre: f64,
+    pub relative_error: f64,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct Errors {
+    /// Mean over the rows of series.csv (uniform in time) of the velocity L2 error.
+    pub l2_time_mean: f64,
+    pub l2_final: f64,
+    pub l2_max: f64,
+    pub u_centre_final: f64,
+    pub u_centre_exact_final: f64,
+    pub u_centre_final_relative_error: f64,
+    /// First local maximum of the analytic centre-line velocity (none for monotone start-up).
+    pub first_overshoot: Option<Peak>,
+    /// Relative L2 errors of the polymer stresses at the end, against the analytic profiles
+    /// at the stress time t − δt/2: ‖τ − τ_exact‖/‖τ_exact‖.
+    pub tau_xy_relative_l2: Option<f64>,
+    pub tau_xx_relative_l2: Option<f64>,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct PpeSummary {
+    pub mean_iterations: f64,
+    pub max_iterations: usize,
+    pub lu_fallbacks: u64,
+    pub max_relative_residual: f64,
+    pub matrix_nonzeros: usize,
+}
+
+/// `summary.json`.
+#[derive(Clone, Debug, Serialize)]
+pub struct Summary {
+    pub outcome: Outcome,
+    pub reason: Option<String>,
+    pub t_reached: f64,
+    pub end_time: f64,
+    pub particles: usize,
+    pub steps: u64,
+    pub wall_seconds: f64,
+    pub particle_steps_per_second: f64,
+    pub stage_seconds: StageSeconds,
+    pub threads: usize,
+    pub derived: Derived,
+    pub errors: Errors,
+    pub ppe: PpeSummary,
+    pub neighbour_pairs_per_particle: f64,
+    pub version: &'static str,
+    pub case: crate::case::CaseFile,
+}
+
+/// Series rows are flushed to disk at most this often (and at the end).
+const FLUSH_INTERVAL: Duration = Duration::from_secs(2);
+
+/// Runs a case to its end time or breakdown and writes the run directory.
+pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
+    std::fs::create_dir_all(&options.out_dir)
+        .with_context(|| format!("creating {}", options.out_dir.display()))?;
+    let derived = case.derived();
+    if !options.quiet {
+        report_start(case, &derived);
+    }
+    let mut sim = Simulation::new(scene::channel(case));
+    let mut reference = ChannelReference::new(case);
+    let series_path = options.out_dir.join("series.csv");
+    let summary_path = options.out_dir.join("summary.json");
+    // A previous run's summary must not survive to describe this one.
+    let _ = std::fs::remove_file(&summary_path);
+
+    let progress = progress_bar(options.quiet, case.end_time);
+    let start = Instant::now();
+    let mut last_flush = Instant::now();
+    let mut rows: Vec<SeriesRow> = Vec::new();
+    let mut exact = Vec::new();
+    let mut window = PpeWindow::default();
+    let mut totals = PpeWindow::default();
+    let mut next_output = 0.0;
+    let mut breakdown = None;
+    let mut last_dt = 0.0;
+    let tolerance = 1e-9 * case.end_time;
+
+    record(
+        &mut sim,
+        &mut reference,
+        &mut exact,
+        &mut window,
+        0.0,
+        &mut rows,
+    );
+    next_output += case.output_interval;
+    while sim.state.time < case.end_time - tolerance {
+        let dt_max = case.end_time - sim.state.time;
+        match sim.step(dt_max) {
+            Ok(report) => {
+                last_dt = report.dt;
+                window.add(&report.ppe);
+                totals.add(&report.ppe);
+            }
+            Err(b) => {
+                breakdown = Some(b.reason);
+                break;
+            }
+        }
+        if sim.state.time >= next_output - tolerance || sim.state.time >= case.end_time - tolerance
+        {
+            record(
+                &mut sim,
+                &mut reference,
+                &mut exact,
+                &mut window,
+                last_dt,
+                &mut rows,
+            );
+            while next_output <= sim.state.time + tolerance {
+                next_output += case.output_interval;
+            }
+            progress.set_position((1000.0 * sim.state.time / case.end_time) as u64);
+            progress.set_message(format!("t = {:.3}", sim.state.time));
+            if last_flush.elapsed() >= FLUSH_INTERVAL {
+                let t0 = Instant::now();
+                io::write_atomic(&series_path, io::series_csv(&rows).as_bytes())?;
+                sim.timers.add(Stage::Output, t0.elapsed().as_secs_f64());
+                last_flush = Instant::now();
+            }
+        }
+    }
+    if breakdown.is_some() && window.steps > 0 {
+        record(
+            &mut sim,
+            &mut reference,
+            &mut exact,
+            &mut window,
+            last_dt,
+            &mut rows,
+        );
+    }
+    progress.finish_and_clear();
+
+    let t0 = Instant::now();
+    io::write_atomic(&series_path, io::series_csv(&rows).as_bytes())?;
+    let stresses = ExactStresses::at_stress_time(&sim, &reference, last_dt);
+    let errors = final_errors(&sim, &rows, stresses.as_ref());
+    if options.charts {
+        draw_charts(&options.out_dir, &sim, &reference, &rows, stresses.as_ref())?;
+    }
+    sim.timers.add(Stage::Output, t0.elapsed().as_secs_f64());
+    let wall_seconds = start.elapsed().as_secs_f64();
+    let steps = sim.state.steps;
+    let summary = Summary {
+        outcome: if breakdown.is_some() {
+            Outcome::BrokeDown
+        } else {
+            Outcome::Finished
+        },
+        reason: breakdown,
+        t_reached: sim.state.time,
+        end_time: case.end_time,
+        particles: sim.particles(),
+        steps,
+        wall_seconds,
+        particle_steps_per_second: sim.particles() as f64 * steps as f64 / wall_seconds.max(1e-9),
+        stage_seconds: sim.timers,
+        threads: rayon::current_num_threads(),
+        derived,
+        errors,
+        ppe: PpeSummary {
+            mean_iterations: totals.mean_iterations(),
+            max_iterations: totals.max_iterations,
+            lu_fallbacks: totals.fallbacks,
+            max_relative_residual: totals.max_residual,
+            matrix_nonzeros: sim.ppe_nonzeros(),
+        },
+        neighbour_pairs_per_particle: sim.neighbour_pairs() as f64 / sim.particles() as f64,
+        version: env!("CARGO_PKG_VERSION"),
+        case: case.source.clone(),
+    };
+    io::write_json(&summary_path, &summary)?;
+    if !options.quiet {
+        report_end(&summary, &options.out_dir);
+    }
+    Ok(summary)
+}
+
+/// PPE statistics over a window of steps.
+#[derive(Default)]
+struct PpeWindow {
+    steps: u64,
+    iterations: u64,
+    max_iterations: usize,
+    max_residual: f64,
+    fallbacks: u64,
+}
+
+impl PpeWindow {
+    fn add(&mut self, r: &rheosph_solver::SolveReport) {
+        self.steps += 1;
+        self.iterations += r.iterations as u64;
+        self.max_iterations = self.max_iterations.max(r.iterations);
+        self.max_residual = self.max_residual.max(r.relative_residual);
+        self.fallbacks += r.fell_back as u64;
+    }
+
+    fn mean_iterations(&self) -> f64 {
+        if self.steps == 0 {
+            0.0
+        } else {
+            self.iterations as f64 / self.steps as f64
+        }
+    }
+}
+
+/// Appends a series row for the current state and resets the PPE window.
+fn record(
+    sim: &mut Simulation,
+    reference: &mut ChannelReference,
+    exact: &mut Vec<f64>,
+    window: &mut PpeWindow,
+    dt: f64,
+    rows: &mut Vec<SeriesRow>,
+) {
+    let t0 = Instant::now();
+    let s = &sim.state;
+    reference.velocity_at(&s.position, s.time, exact);
+    let height = sim.domain.max.y - sim.domain.min.y;
+    let stats = diagnostics::field_stats(
+        &s.velocity,
+        &s.conformation,
+        sim.fluid.density,
+        sim.particle_volume(),
+    );
+    rows.push(SeriesRow {
+        t: s.time,
+        dt,
+        step: s.steps,
+        u_centre: diagnostics::centre_line_velocity(
+            &s.position,
+            &s.velocity,
+            0.5 * height,
+            sim.spacing,
+        ),
+        u_centre_exact: reference.centre_velocity(s.time),
+        l2_error: diagnostics::l2_error(&s.velocity, exact, reference.velocity_scale),
+        ppe_iterations: window.mean_iterations(),
+        ppe_residual: window.max_residual,
+        ppe_fallbacks: window.fallbacks as u32,
+        kinetic_energy: stats.kinetic_energy,
+        max_speed: stats.max_speed,
+        max_trace_a: stats.max_trace,
+        min_det_a: stats.min_det,
+    });
+    *window = PpeWindow::default();
+    sim.timers
+        .add(Stage::Diagnostics, t0.elapsed().as_secs_f64());
+}
+
+fn relative(a: f64, b: f64) -> f64 {
+    if b != 0.0 {
+        (a - b).abs() / b.abs()
+    } else {
+        (a - b).abs()
+    }
+}
+
+fn final_errors(sim: &Simulation, rows: &[SeriesRow], stresses: Option<&ExactStresses>) -> Errors {
+    let l2: Vec<f64> = rows
+        .iter()
+        .map(|r| r.l2_error)
+        .filter(|v| v.is_finite())
+        .collect();
+    let last = rows.last().copied().unwrap_or_default();
+    let first_overshoot = rows.windows(3).find(|w| {
+        w[1].u_centre_exact > w[0].u_centre_exact && w[1].u_centre_exact >= w[2].u_centre_exact
+    });
+    let (tau_xy, tau_xx) = stresses.map_or((None, None), |s| s.relative_errors(sim));
+    Errors {
+        l2_time_mean: if l2.is_empty() {
+            f64::NAN
+        } else {
+            l2.iter().sum::<f64>() / l2.len() as f64
+        },
+        l2_final: last.l2_error,
+        l2_max: l2.iter().copied().fold(0.0, f64::max),
+        u_centre_final: last.u_centre,
+        u_centre_exact_final: last.u_centre_exact,
+        u_centre_final_relative_error: relative(last.u_centre, last.u_centre_exact),
+        first_overshoot: first_overshoot.map(|w| Peak {
+            t: w[1].t,
+            u_centre_exact: w[1].u_centre_exact,
+            u_centre: w[1].u_centre,
+            relative_error: relative(w[1].u_centre, w[1].u_centre_exact),
+        }),
+        tau_xy_relative_l2: tau_xy,
+        tau_xx_relative_l2: tau_xx,
+    }
+}
+
+/// Exact polymer stress profiles at the stress time t − δt/2 (§III B), on a grid of heights
+/// and interpolated to the particles: τ_xx needs a time integration per height, so it is not
+/// evaluated particle by particle.
+struct ExactStresses {
+    grid: Vec<f64>,
+    xy: Vec<f64>,
+    xx: Vec<f64>,
+}
+
+impl ExactStresses {
+    fn at_stress_time(sim: &Simulation, reference: &ChannelReference, dt: f64) -> Option<Self> {
+        if !sim.fluid.model.is_viscoelastic() {
+            return None;
+        }
+        let t = (sim.state.time - 0.5 * dt).max(0.0);
+        let height = sim.domain.max.y - sim.domain.min.y;
+        let grid: Vec<f64> = (0..=100).map(|k| height * k as f64 / 100.0).collect();
+        let (xy, xx) = reference.stress_profiles(&grid, t);
+        Some(Self { grid, xy, xx })
+    }
+
+    fn interpolate(&self, values: &[f64], y: f64) -> f64 {
+        let g = &self.grid;
+        let step = g[1] - g[0];
+        let k = (((y - g[0]) / step).floor().max(0.0) as usize).min(g.len() - 2);
+        let w = (y - g[k]) / step;
+        values[k] * (1.0 - w) + values[k + 1] * w
+    }
+
+    /// ‖τ − τ_exact‖/‖τ_exact‖ over the particles, for τ_xy and τ_xx.
+    fn relative_errors(&self, sim: &Simulation) -> (Option<f64>, Option<f64>) {
+        let tau = sim.polymer_stress();
+        let norm = |num: &dyn Fn(usize) -> f64, exact: &[f64]| {
+            let (mut diff, mut base) = (0.0, 0.0);
+            for (i, p) in sim.state.position.iter().enumerate() {
+                let e = self.interpolate(exact, p.y);
+                diff += (num(i) - e).powi(2);
+                base += e * e;
+            }
+            (base > 0.0).then(|| (diff / base).sqrt())
+        };
+        (
+            norm(&|i| tau[i].xy, &self.xy),
+            norm(&|i| tau[i].xx, &self.xx),
+        )
+    }
+}
+
+fn draw_charts(
+    dir: &Path,
+    sim: &Simulation,
+    reference: &ChannelReference,
+    rows: &[SeriesRow],
+    stresses: Option<&ExactStresses>,
+) -> Result<()> {
+    plot::draw(
+        &dir.join("centre_velocity.png"),
+        &Chart {
+            title: "Centre-line velocity".into(),
+            x_label: "t".into(),
+            y_label: "u(H/2)".into(),
+            ..Default::default()
+        },
+        &[
+            Curve {
+                label: "Waters & King".into(),
+                points: rows.iter().map(|r| (r.t, r.u_centre_exact)).collect(),
+                style: CurveStyle::Line,
+                color: PALETTE[1],
+            },
+            Curve {
+                label: "rheosph".into(),
+                points: rows.iter().map(|r| (r.t, r.u_centre)).collect(),
+                style: CurveStyle::Dashed,
+                color: PALETTE[0],
+            },
+        ],
+    )?;
+    plot::draw(
+        &dir.join("l2_error.png"),
+        &Chart {
+            title: "Velocity L2 error".into(),
+            x_label: "t".into(),
+            y_label: "L2 error / U".into(),
+            log_y: true,
+            ..Default::default()
+        },
+        &[Curve {
+            label: String::new(),
+            points: rows.iter().skip(1).map(|r| (r.t, r.l2_error)).collect(),
+            style: CurveStyle::Line,
+            color: PALETTE[0],
+        }],
+    )?;
+    draw_profiles(dir, sim, reference, stresses)
+}
+
+/// Final profiles across the channel: every particle against the analytic line.
+fn draw_profiles(
+    dir: &Path,
+    sim: &Simulation,
+    reference: &ChannelReference,
+    stresses: Option<&ExactStresses>,
+) -> Result<()> {
+    let s = &sim.state;
+    let height = sim.domain.max.y - sim.domain.min.y;
+    let ys: Vec<f64> = (0..=200).map(|k| height * k as f64 / 200.0).collect();
+    let exact_u = reference.velocity_profile(&ys, s.time);
+    let profile = |name: &str, label: &str, numeric: Vec<(f64, f64)>, exact: Vec<(f64, f64)>| {
+        plot::draw(
+            &dir.join(name),
+            &Chart {
+                title: format!("{label} across the channel at t = {:.3}", s.time),
+                x_label: "y".into(),
+                y_label: label.into(),
+                ..Default::default()
+            },
+            &[
+                Curve {
+                    label: "analytic".into(),
+                    points: exact,
+                    style: CurveStyle::Line,
+                    color: PALETTE[1],
+                },
+                Curve {
+                    label: "particles".into(),
+                    points: numeric,
+                    style: CurveStyle::Markers,
+                    color: PALETTE[0],
+                },
+            ],
+        )
+    };
+    profile(
+        "profile_velocity.png",
+        "u",
+        s.position
+            .iter()
+            .zip(&s.velocity)
+            .map(|(p, u)| (p.y, u.x))
+            .collect(),
+        ys.iter().copied().zip(exact_u).collect(),
+    )?;
+    if let Some(ex) = stresses {
+        let (grid, xy, xx) = (&ex.grid, ex.xy.clone(), ex.xx.clone());
+        let tau = sim.polymer_stress();
+        profile(
+            "profile_tau_xy.png",
+            "tau_p,xy",
+            s.position
+                .iter()
+                .zip(&tau)
+                .map(|(p, t)| (p.y, t.xy))
+                .collect(),
+            grid.iter().copied().zip(xy).collect(),
+        )?;
+        profile(
+            "profile_tau_xx.png",
+            "tau_p,xx",
+            s.position
+                .iter()
+                .zip(&tau)
+                .map(|(p, t)| (p.y, t.xx))
+                .collect(),
+            grid.iter().copied().zip(xx).collect(),
+        )?;
+    }
+    Ok(())
+}
+
+fn progress_bar(quiet: bool, end_time: f64) -> ProgressBar {
+    if quiet {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::with_draw_target(Some(1000), ProgressDrawTarget::stderr());
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{bar:40.cyan/blue} {percent:>3}% {msg} of {prefix} [{elapsed_precise}, ETA {eta}]",
+        )
+        .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    bar.set_prefix(format!("{end_time}"));
+    bar
+}
+
+fn report_start(case: &Case, d: &Derived) {
+    let f = &case.fluid;
+    eprintln!(
+        "rheosph {}: case `{}`",
+        env!("CARGO_PKG_VERSION"),
+        case.name
+    );
+    eprintln!(
+        "  model {}  Re = {:.4}  Wi = {:.4}  El = {:.4}  beta = {}  alpha_V = {}",
+        f.model.name(),
+        d.reynolds,
+        d.weissenberg,
+        d.elasticity,
+        d.beta,
+        case.scheme.evss_alpha
+    );
+    eprintln!(
+        "  {} particles, dr = {:.4e}, h = {:.4e}; U = {:.4e}; dt limits: viscous {:.3e}, advective {:.3e}; ~{:.0} steps",
+        d.particles, d.particle_spacing, d.smoothing_length, d.velocity_scale, d.dt_viscous, d.dt_advective_at_u, d.estimated_steps
+    );
+    eprintln!(
+        "  frame {:?}, conformation {:?}, shifting {}, {} threads",
+        case.scheme.frame,
+        case.scheme.conformation,
+        case.scheme.shifting,
+        rayon::current_num_threads()
+    );
+}
+
+fn report_end(s: &Summary, dir: &Path) {
+    match s.outcome {
+        Outcome::Finished => {
+            eprintln!("finished at t = {:.4} after {} steps", s.t_reached, s.steps)
+        }
+        Outcome::BrokeDown => eprintln!(
+            "broke down at t = {:.4} after {} steps: {}",
+            s.t_reached,
+            s.steps,
+            s.reason.as_deref().unwrap_or("?")
+        ),
+    }
+    eprintln!(
+        "  L2 error: time mean {:.3e}, final {:.3e}; {:.0} particle-steps/s ({:.1} s wall, PPE {:.1} it/step)",
+        s.errors.l2_time_mean, s.errors.l2_final, s.particle_steps_per_second, s.wall_seconds, s.ppe.mean_iterations
+    );
+    eprintln!("  output in {}", dir.display());
+}

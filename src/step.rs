@@ -1,0 +1,524 @@
+//! One projection time step of King & Lind (2021), Steps 1–7, eqs. (23)–(28), in ALE form.
+//!
+//! State at the start of step n: positions r^n, velocity u^n, pressure p^n and the
+//! conformation A^{n−1/2} (stress lives at half steps, §III B). The step:
+//!
+//! 1. (Lagrangian) advect to r* = r^n + δt u^n, eq. (23).
+//! 2. Mirrors, neighbour lists, Bonet–Lok L_i at r*; ∇u^n; shifting velocity u_ps
+//!    (Lagrangian: Fickian, eqs. (40)–(42); Eulerian: u_ps = −u^n).
+//! 3. Conformation to n+½ (log-conformation (29)–(32) or direct), τ_p, EVSS Φ, eq. (6).
+//! 4. Predictor (24): u* = u^n + δt[u_ps·∇u^n + (β+α_V)η0/ρ ∇²u^n + ∇·Φ/ρ + g].
+//! 5. PPE (25) for p^{n+1}.
+//! 6. Projection (26): u^{n+1} = u* − (δt/ρ)∇p^{n+1} (the δt is implied by (25)).
+//! 7. (Lagrangian) r^{n+1} = r^n + δt/2 (u^n + u^{n+1} + 2u_ps), eq. (27).
+//!
+//! δt follows (28). A stage the scene does not need costs nothing: a Newtonian fluid has no
+//! conformation, an Eulerian run builds its neighbour lists once.
+
+use crate::boundary::{Ghosts, Wall};
+use crate::case::{Frame, Scheme};
+use crate::kernel::QuinticSpline;
+use crate::math::{Mat2, Sym2, Vec2};
+use crate::neighbours::{Domain, NeighbourList, NeighbourSearch};
+use crate::operators::{DivergenceForm, KernelSums};
+use crate::pressure::PressureSystem;
+use crate::rheology::{self, ConformationScheme, Fluid};
+use crate::shifting;
+use crate::timing::{Stage, StageSeconds};
+use rayon::prelude::*;
+use rheosph_solver::{NullSpace, SolveReport, SolverOptions, Strategy};
+
+/// Characteristic scales of a scene, for tolerances and breakdown thresholds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Scales {
+    pub length: f64,
+    pub velocity: f64,
+}
+
+/// Everything needed to start a simulation.
+#[derive(Clone, Debug)]
+pub struct Setup {
+    pub domain: Domain,
+    pub walls: Vec<Wall>,
+    pub positions: Vec<Vec2>,
+    pub spacing: f64,
+    pub fluid: Fluid,
+    pub scheme: Scheme,
+    pub body_force: Vec2,
+    pub scales: Scales,
+}
+
+/// The evolving particle state (fluid particles only, structure of arrays).
+#[derive(Clone, Debug, Default)]
+pub struct State {
+    pub time: f64,
+    pub steps: u64,
+    /// r^n.
+    pub position: Vec<Vec2>,
+    /// u^n.
+    pub velocity: Vec<Vec2>,
+    /// p^n (zero mean on closed domains).
+    pub pressure: Vec<f64>,
+    /// A^{n−1/2}; empty for a Newtonian fluid.
+    pub conformation: Vec<Sym2>,
+    /// u_ps of the last step.
+    pub shift_velocity: Vec<Vec2>,
+}
+
+/// Why a run stopped early.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Breakdown {
+    pub reason: String,
+}
+
+/// What one step did.
+#[derive(Clone, Copy, Debug)]
+pub struct StepReport {
+    pub dt: f64,
+    pub ppe: SolveReport,
+}
+
+/// Per-step work arrays, sized once and reused.
+#[derive(Default)]
+struct Workspace {
+    points: Vec<Vec2>,
+    ghosts: Ghosts,
+    search: NeighbourSearch,
+    list: NeighbourList,
+    sums: KernelSums,
+    lists_valid: bool,
+    velocity_ext: Vec<Vec2>,
+    grad_u: Vec<Mat2>,
+    grad_c: Vec<Vec2>,
+    tensor_ext: Vec<Sym2>,
+    log_conformation: Vec<Sym2>,
+    advection: Vec<Sym2>,
+    phi: Vec<Sym2>,
+    div_phi: Vec<Vec2>,
+    laplacian: Vec<Vec2>,
+    velocity_star: Vec<Vec2>,
+    divergence: Vec<f64>,
+    pressure_ext: Vec<f64>,
+    grad_p: Vec<Vec2>,
+    ppe: PressureSystem,
+}
+
+/// A running simulation.
+pub struct Simulation {
+    pub fluid: Fluid,
+    pub scheme: Scheme,
+    pub kernel: QuinticSpline,
+    pub spacing: f64,
+    pub domain: Domain,
+    pub body_force: Vec2,
+    pub scales: Scales,
+    pub state: State,
+    pub timers: StageSeconds,
+    ws: Workspace,
+}
+
+/// Kinetic energy per unit mass above which a run has run away: an r.m.s. speed of 100 U.
+const RUNAWAY_SPEED_FACTOR: f64 = 100.0;
+/// tr A beyond which the conformation has run away (polymer stretch ~10⁶ of rest length).
+const RUNAWAY_TRACE: f64 = 1e12;
+
+impl Simulation {
+    pub fn new(setup: Setup) -> Self {
+        let n = setup.positions.len();
+        let conformation = if setup.fluid.model.is_viscoelastic() {
+            vec![Sym2::IDENTITY; n]
+        } else {
+            Vec::new()
+        };
+        let mut ghosts = Ghosts::new(setup.walls);
+        ghosts.tensor_mirror = setup.scheme.wall_conformation;
+        Self {
+            kernel: QuinticSpline::for_spacing(setup.spacing),
+            fluid: setup.fluid,
+            scheme: setup.scheme,
+            spacing: setup.spacing,
+            domain: setup.domain,
+            body_force: setup.body_force,
+            scales: setup.scales,
+            state: State {
+                time: 0.0,
+                steps: 0,
+                position: setup.positions,
+                velocity: vec![Vec2::zeros(); n],
+                pressure: vec![0.0; n],
+                conformation,
+                shift_velocity: vec![Vec2::zeros(); n],
+            },
+            timers: StageSeconds::default(),
+            ws: Workspace {
+                ghosts,
+                ..Default::default()
+            },
+        }
+    }
+
+    pub fn particles(&self) -> usize {
+        self.state.position.len()
+    }
+
+    /// Particle volume δV = δr².
+    pub fn particle_volume(&self) -> f64 {
+        self.spacing * self.spacing
+    }
+
+    /// The time step of eq. (28): `dt_factor · min(h/max|u|, ρh²/η0)`.
+    pub fn stable_dt(&self) -> f64 {
+        let h = self.kernel.h();
+        let max_speed = self
+            .state
+            .velocity
+            .par_iter()
+            .map(|u| u.norm())
+            .reduce(|| 0.0, f64::max);
+        let viscous = self.fluid.density * h * h / self.fluid.viscosity;
+        let advective = if max_speed > 0.0 {
+            h / max_speed
+        } else {
+            f64::INFINITY
+        };
+        self.scheme.dt_factor * viscous.min(advective)
+    }
+
+    /// Advances one step of at most `dt_max`.
+    pub fn step(&mut self, dt_max: f64) -> Result<StepReport, Breakdown> {
+        let dt = self.stable_dt().min(dt_max);
+        let n = self.particles();
+        let lagrangian = self.scheme.frame == Frame::Lagrangian;
+        let Self {
+            fluid,
+            scheme,
+            kernel,
+            spacing,
+            domain,
+            body_force,
+            scales,
+            state,
+            timers,
+            ws,
+        } = self;
+
+        // Step 1: intermediate positions r*.
+        timers.time(Stage::Advection, || {
+            ws.points.clear();
+            if lagrangian {
+                ws.points.extend(
+                    state
+                        .position
+                        .iter()
+                        .zip(&state.velocity)
+                        .map(|(r, u)| domain.wrap(r + dt * u)),
+                );
+            } else {
+                ws.points.extend_from_slice(&state.position);
+            }
+        });
+
+        // Step 2: mirrors, neighbours, kernel sums (once for fixed particles).
+        timers.time(Stage::Neighbours, || {
+            if lagrangian || !ws.lists_valid {
+                ws.ghosts.build(kernel.support(), &mut ws.points);
+                ws.search
+                    .build(domain, &ws.points, n, kernel.support(), &mut ws.list);
+                ws.sums.update(&ws.list, kernel, *spacing * *spacing);
+                ws.lists_valid = true;
+            }
+        });
+
+        // Step 2: ∇u^n and the shifting velocity.
+        timers.time(Stage::Kinematics, || {
+            ws.ghosts
+                .extend_velocity(&state.velocity, &mut ws.velocity_ext);
+            ws.grad_u.resize(n, Mat2::zeros());
+            ws.sums
+                .gradient_vector(&ws.list, &ws.velocity_ext, &mut ws.grad_u);
+            let u_ps = &mut state.shift_velocity;
+            match (scheme.frame, scheme.shifting) {
+                (Frame::Eulerian, _) => {
+                    u_ps.par_iter_mut()
+                        .zip(state.velocity.par_iter())
+                        .for_each(|(s, u)| *s = -u);
+                }
+                (Frame::Lagrangian, true) => {
+                    ws.grad_c.resize(n, Vec2::zeros());
+                    shifting::concentration_gradient(
+                        &ws.list,
+                        &ws.sums,
+                        kernel,
+                        *spacing,
+                        &mut ws.grad_c,
+                    );
+                    shifting::internal_shifting_velocity(&ws.grad_c, kernel.h(), dt, u_ps);
+                }
+                (Frame::Lagrangian, false) => u_ps.iter_mut().for_each(|s| *s = Vec2::zeros()),
+            }
+        });
+
+        // Step 3: conformation to n + 1/2, polymer stress, EVSS Φ and its divergence.
+        let viscoelastic = fluid.model.is_viscoelastic();
+        if viscoelastic {
+            timers.time(Stage::Constitutive, || {
+                constitutive_update(fluid, scheme, dt, state, ws);
+            });
+        }
+
+        // Step 4: predictor u*.
+        timers.time(Stage::Predictor, || {
+            ws.laplacian.resize(n, Vec2::zeros());
+            ws.sums
+                .laplacian_vector(&ws.list, &ws.velocity_ext, &mut ws.laplacian);
+            let nu = if viscoelastic {
+                (fluid.beta + scheme.evss_alpha) * fluid.viscosity / fluid.density
+            } else {
+                fluid.viscosity / fluid.density
+            };
+            let inv_rho = 1.0 / fluid.density;
+            let g = *body_force;
+            ws.velocity_star.resize(n, Vec2::zeros());
+            let (grad_u, lap, div_phi) = (&ws.grad_u, &ws.laplacian, &ws.div_phi);
+            let u_ps = &state.shift_velocity;
+            ws.velocity_star
+                .par_iter_mut()
+                .zip(state.velocity.par_iter())
+                .enumerate()
+                .for_each(|(i, (us, u))| {
+                    let stress = if viscoelastic {
+                        div_phi[i] * inv_rho
+                    } else {
+                        Vec2::zeros()
+                    };
+                    *us = u + dt * (grad_u[i] * u_ps[i] + nu * lap[i] + stress + g);
+                });
+        });
+
+        // Step 5: pressure Poisson equation.
+        timers.time(Stage::PpeAssembly, || {
+            ws.ghosts
+                .extend_velocity(&ws.velocity_star, &mut ws.velocity_ext);
+            ws.divergence.resize(n, 0.0);
+            ws.sums
+                .divergence(&ws.list, &ws.velocity_ext, &mut ws.divergence);
+            ws.ppe.assemble(
+                &ws.list,
+                &ws.sums,
+                &ws.ghosts,
+                fluid.density,
+                &ws.divergence,
+                dt,
+            );
+        });
+        let options = SolverOptions {
+            relative_tolerance: scheme.ppe_tolerance,
+            // Right-hand sides at round-off level (a fluid at rest) need no more than an r.m.s.
+            // divergence of 1e-10 U/L.
+            absolute_tolerance: 1e-10 * (n as f64).sqrt() * scales.velocity / (scales.length * dt),
+            max_iterations: scheme.ppe_max_iterations,
+            null_space: NullSpace::Constant,
+            strategy: Strategy::IterativeWithFallback,
+        };
+        let ppe = timers
+            .time(Stage::PpeSolve, || {
+                ws.ppe.solve(&mut state.pressure, &options)
+            })
+            .map_err(|e| Breakdown {
+                reason: format!("pressure Poisson solve failed: {e}"),
+            })?;
+
+        // Step 6: projection, u^{n+1} = u* − (δt/ρ)∇p^{n+1}, written over u*.
+        timers.time(Stage::Projection, || {
+            ws.ghosts
+                .extend_scalar(&state.pressure, &mut ws.pressure_ext);
+            ws.grad_p.resize(n, Vec2::zeros());
+            ws.sums
+                .gradient_scalar(&ws.list, &ws.pressure_ext, &mut ws.grad_p);
+            let scale = dt / fluid.density;
+            let grad_p = &ws.grad_p;
+            ws.velocity_star
+                .par_iter_mut()
+                .zip(grad_p.par_iter())
+                .for_each(|(u, gp)| *u -= scale * gp);
+        });
+
+        // Step 7: r^{n+1} = r^n + δt/2 (u^n + u^{n+1} + 2u_ps), then u^{n+1} becomes the state.
+        timers.time(Stage::Advection, || {
+            if lagrangian {
+                let (u_old, u_new, u_ps) =
+                    (&state.velocity, &ws.velocity_star, &state.shift_velocity);
+                state
+                    .position
+                    .par_iter_mut()
+                    .enumerate()
+                    .for_each(|(i, r)| {
+                        *r = domain.wrap(*r + 0.5 * dt * (u_old[i] + u_new[i] + 2.0 * u_ps[i]));
+                    });
+            }
+            std::mem::swap(&mut state.velocity, &mut ws.velocity_star);
+        });
+
+        state.time += dt;
+        state.steps += 1;
+        let t0 = std::time::Instant::now();
+        let checked = self.check();
+        self.timers
+            .add(Stage::Diagnostics, t0.elapsed().as_secs_f64());
+        checked?;
+        Ok(StepReport { dt, ppe })
+    }
+
+    /// Breakdown detection: non-finite values, runaway kinetic energy or conformation, lost
+    /// positive definiteness (direct integration), particles through a wall.
+    pub fn check(&self) -> Result<(), Breakdown> {
+        let s = &self.state;
+        let fail = |reason: String| Err(Breakdown { reason });
+        if !s
+            .velocity
+            .par_iter()
+            .all(|u| u.x.is_finite() && u.y.is_finite())
+        {
+            return fail("non-finite velocity".into());
+        }
+        if !s.pressure.par_iter().all(|p| p.is_finite()) {
+            return fail("non-finite pressure".into());
+        }
+        let mean_square =
+            crate::diagnostics::blocked_sum(s.velocity.len(), |i| s.velocity[i].norm_squared())
+                / s.velocity.len() as f64;
+        let limit = RUNAWAY_SPEED_FACTOR * self.scales.velocity;
+        if mean_square.sqrt() > limit {
+            return fail(format!(
+                "runaway kinetic energy: r.m.s. speed {:.3e} exceeds {RUNAWAY_SPEED_FACTOR} U",
+                mean_square.sqrt()
+            ));
+        }
+        if let Some(bad) = s.conformation.par_iter().find_any(|a| !a.is_finite()) {
+            return fail(format!("non-finite conformation tensor {bad:?}"));
+        }
+        if s.conformation.par_iter().any(|a| a.trace() > RUNAWAY_TRACE) {
+            return fail(format!("runaway conformation: tr A > {RUNAWAY_TRACE:e}"));
+        }
+        if self.scheme.conformation == ConformationScheme::Direct
+            && s.conformation
+                .par_iter()
+                .any(|a| a.det() <= 0.0 || a.trace() <= 0.0)
+        {
+            return fail("conformation tensor lost positive definiteness".into());
+        }
+        let walls = &self.ws.ghosts.walls;
+        if let Some(p) = s
+            .position
+            .par_iter()
+            .find_any(|p| walls.iter().any(|w| w.distance(p) <= 0.0))
+        {
+            return fail(format!(
+                "a particle crossed a wall at ({:.4}, {:.4})",
+                p.x, p.y
+            ));
+        }
+        Ok(())
+    }
+
+    /// Polymer stress τ_p at n−1/2 for every particle (zero for Newtonian).
+    pub fn polymer_stress(&self) -> Vec<Sym2> {
+        if !self.fluid.model.is_viscoelastic() {
+            return vec![Sym2::ZERO; self.particles()];
+        }
+        self.state
+            .conformation
+            .par_iter()
+            .map(|a| self.fluid.polymer_stress(a))
+            .collect()
+    }
+
+    /// Neighbour pairs of the last step (for memory and cost reports).
+    pub fn neighbour_pairs(&self) -> usize {
+        self.ws.list.pairs()
+    }
+
+    /// Stored PPE entries of the last step.
+    pub fn ppe_nonzeros(&self) -> usize {
+        self.ws.ppe.nnz()
+    }
+}
+
+/// Step 3: advance the conformation from n−½ to n+½, then Φ and ∇·Φ.
+fn constitutive_update(
+    fluid: &Fluid,
+    scheme: &Scheme,
+    dt: f64,
+    state: &mut State,
+    ws: &mut Workspace,
+) {
+    let n = state.position.len();
+    let lambda = fluid.relaxation_time;
+    let model = fluid.model;
+    ws.advection.resize(n, Sym2::ZERO);
+    match scheme.conformation {
+        ConformationScheme::Log => {
+            ws.log_conformation.resize(n, Sym2::ZERO);
+            ws.log_conformation
+                .par_iter_mut()
+                .zip(state.conformation.par_iter())
+                .for_each(|(psi, a)| *psi = a.log());
+            ws.ghosts
+                .extend_tensor(&ws.log_conformation, &mut ws.tensor_ext);
+            ws.sums.advective_tensor(
+                &ws.list,
+                &ws.tensor_ext,
+                &state.shift_velocity,
+                &mut ws.advection,
+            );
+            let (psi, adv, grad) = (&ws.log_conformation, &ws.advection, &ws.grad_u);
+            state
+                .conformation
+                .par_iter_mut()
+                .enumerate()
+                .for_each(|(i, a)| {
+                    *a = rheology::log_conformation_step(
+                        &model, a, &psi[i], &adv[i], &grad[i], dt, lambda,
+                    );
+                });
+        }
+        ConformationScheme::Direct => {
+            ws.ghosts
+                .extend_tensor(&state.conformation, &mut ws.tensor_ext);
+            ws.sums.advective_tensor(
+                &ws.list,
+                &ws.tensor_ext,
+                &state.shift_velocity,
+                &mut ws.advection,
+            );
+            let (adv, grad) = (&ws.advection, &ws.grad_u);
+            state
+                .conformation
+                .par_iter_mut()
+                .enumerate()
+                .for_each(|(i, a)| {
+                    *a = rheology::direct_step(&model, a, &adv[i], &grad[i], dt, lambda);
+                });
+        }
+    }
+    // Φ = τ_p − α_V η0 2D, eq. (6), with D from ∇u^n.
+    let evss = scheme.evss_alpha * fluid.viscosity;
+    ws.phi.resize(n, Sym2::ZERO);
+    let grad = &ws.grad_u;
+    ws.phi
+        .par_iter_mut()
+        .zip(state.conformation.par_iter())
+        .enumerate()
+        .for_each(|(i, (phi, a))| {
+            let strain_rate = Sym2::sym_part(&grad[i]) * 2.0;
+            *phi = fluid.polymer_stress(a) - strain_rate * evss;
+        });
+    ws.ghosts.extend_tensor(&ws.phi, &mut ws.tensor_ext);
+    ws.div_phi.resize(n, Vec2::zeros());
+    ws.sums.divergence_tensor(
+        &ws.list,
+        &ws.tensor_ext,
+        DivergenceForm::Negative,
+        &mut ws.div_phi,
+    );
+}

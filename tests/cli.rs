@@ -1,0 +1,223 @@
+//! The `rheosph` binary: run directory contents, bad input, breakdown as a result.
+
+use std::path::Path;
+use std::process::Command;
+
+const POISEUILLE: &str = include_str!("../cases/poiseuille.toml");
+
+fn rheosph(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_rheosph"))
+        .args(args)
+        .output()
+        .expect("binary runs")
+}
+
+fn write_case(dir: &Path, name: &str, text: &str) -> String {
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path.to_string_lossy().into_owned()
+}
+
+fn is_png(path: &Path) -> bool {
+    std::fs::read(path)
+        .map(|b| b.starts_with(b"\x89PNG\r\n\x1a\n"))
+        .unwrap_or(false)
+}
+
+#[test]
+fn run_writes_series_summary_and_charts() {
+    let dir = tempfile::tempdir().unwrap();
+    let case = write_case(dir.path(), "p.toml", POISEUILLE);
+    let out = dir.path().join("run");
+    let o = rheosph(&[
+        "run",
+        &case,
+        "-q",
+        "--out",
+        out.to_str().unwrap(),
+        "--set",
+        "scene.resolution=12",
+        "--set",
+        "run.end_time=0.2",
+        "--set",
+        "run.output_interval=0.01",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let rows = rheosph::io::read_series(&out.join("series.csv")).unwrap();
+    assert!(rows.len() > 10);
+    assert!(rows
+        .iter()
+        .all(|r| r.l2_error.is_finite() && r.u_centre.is_finite()));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["outcome"], "finished");
+    assert!(summary["reason"].is_null());
+    for key in [
+        "t_reached",
+        "particles",
+        "steps",
+        "wall_seconds",
+        "particle_steps_per_second",
+    ] {
+        assert!(summary[key].as_f64().is_some(), "summary lacks {key}");
+    }
+    for stage in [
+        "neighbours",
+        "constitutive",
+        "ppe_assembly",
+        "ppe_solve",
+        "projection",
+    ] {
+        assert!(summary["stage_seconds"][stage].as_f64().unwrap() >= 0.0);
+    }
+    for png in [
+        "centre_velocity.png",
+        "l2_error.png",
+        "profile_velocity.png",
+        "profile_tau_xy.png",
+    ] {
+        assert!(is_png(&out.join(png)), "{png}");
+    }
+    // No temporary files left behind by the atomic writers.
+    for entry in std::fs::read_dir(&out).unwrap() {
+        let name = entry.unwrap().file_name().to_string_lossy().into_owned();
+        assert!(!name.contains(".tmp"), "leftover {name}");
+    }
+}
+
+/// Each mistake is answered by exactly one line naming the file and the field, exit code 2.
+#[test]
+fn bad_input_is_one_clear_line_and_exit_code_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let good = write_case(dir.path(), "good.toml", POISEUILLE);
+    let edits: &[(&str, &str, &str)] = &[
+        (
+            "unknown_key.toml",
+            "relaxation_time = 1.0",
+            "relaxation_time = 1.0\ncolour = 3",
+        ),
+        ("unknown_table.toml", "[run]", "[extra]\nx = 1\n[run]"),
+        ("missing_density.toml", "density = 1.0          # rho", ""),
+        ("beta_high.toml", "beta = 0.1", "beta = 1.5"),
+        ("beta_negative.toml", "beta = 0.1", "beta = -0.1"),
+        ("density_zero.toml", "density = 1.0", "density = 0.0"),
+        ("density_negative.toml", "density = 1.0", "density = -1.0"),
+        ("viscosity_zero.toml", "viscosity = 1.0", "viscosity = 0.0"),
+        ("resolution_zero.toml", "resolution = 30", "resolution = 0"),
+        (
+            "resolution_negative.toml",
+            "resolution = 30",
+            "resolution = -30",
+        ),
+        (
+            "resolution_coarse.toml",
+            "resolution = 30",
+            "resolution = 5",
+        ),
+        (
+            "model_unknown.toml",
+            "model = \"oldroyd-b\"",
+            "model = \"maxwell\"",
+        ),
+        (
+            "frame_typo.toml",
+            "frame = \"lagrangian\"",
+            "frame = \"lagrange\"",
+        ),
+        ("not_toml.toml", "[fluid]", "[fluid"),
+    ];
+    let field_of = |name: &str| match name {
+        "unknown_key.toml" => "colour",
+        "unknown_table.toml" => "extra",
+        "missing_density.toml" => "density",
+        "beta_high.toml" | "beta_negative.toml" => "fluid.beta",
+        "density_zero.toml" | "density_negative.toml" => "fluid.density",
+        "viscosity_zero.toml" => "fluid.viscosity",
+        n if n.starts_with("resolution") => "scene.resolution",
+        "model_unknown.toml" => "fluid.model",
+        "frame_typo.toml" => "scheme.frame",
+        _ => "TOML",
+    };
+    for (name, from, to) in edits {
+        assert!(POISEUILLE.contains(from), "{name}: pattern not in case");
+        let path = write_case(dir.path(), name, &POISEUILLE.replacen(from, to, 1));
+        let out_dir = dir.path().join("x");
+        let out_dir = out_dir.to_str().unwrap();
+        for args in [
+            vec!["check", &path],
+            vec!["run", &path, "-q", "--out", out_dir],
+        ] {
+            let sub = args[0];
+            let o = rheosph(&args);
+            let err = String::from_utf8_lossy(&o.stderr);
+            assert_eq!(o.status.code(), Some(2), "{sub} {name}: {err}");
+            assert_eq!(err.trim_end().lines().count(), 1, "{sub} {name}: {err}");
+            assert!(
+                err.contains(name),
+                "{sub} {name} does not name the file: {err}"
+            );
+            assert!(
+                err.contains(field_of(name)),
+                "{sub} {name} does not name the field: {err}"
+            );
+        }
+    }
+    let overrides: &[(&str, &str)] = &[
+        ("fluid.beta", "fluid.beta"),
+        ("=3", "--set"),
+        ("fluid.beta=", "--set"),
+        ("fluid.colour=2", "colour"),
+        ("scene.resolution=abc", "scene.resolution"),
+        ("fluid.viscosity=-2", "fluid.viscosity"),
+        ("fluid.model=ucm", "fluid.beta"),
+    ];
+    for (set, field) in overrides {
+        let o = rheosph(&["check", &good, "--set", set]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "--set {set}: {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "--set {set}: {err}");
+        assert!(
+            err.contains("good.toml") && err.contains(field),
+            "--set {set}: {err}"
+        );
+    }
+    let o = rheosph(&["check", dir.path().join("absent.toml").to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+}
+
+/// A run forced to blow up (δt eight times the viscous limit of eq. (28)) stops cleanly:
+/// outcome `broke_down` with time and reason, exit code 3, and its files intact.
+#[test]
+fn forced_blow_up_is_recorded_not_crashed() {
+    let dir = tempfile::tempdir().unwrap();
+    let case = write_case(dir.path(), "p.toml", POISEUILLE);
+    let out = dir.path().join("run");
+    let o = rheosph(&[
+        "run",
+        &case,
+        "-q",
+        "--out",
+        out.to_str().unwrap(),
+        "--set",
+        "scene.resolution=12",
+        "--set",
+        "run.end_time=2",
+        "--set",
+        "scheme.dt_factor=8",
+    ]);
+    assert_eq!(
+        o.status.code(),
+        Some(3),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["outcome"], "broke_down");
+    assert!(summary["reason"].as_str().is_some_and(|r| !r.is_empty()));
+    let t = summary["t_reached"].as_f64().unwrap();
+    assert!(t > 0.0 && t < 2.0);
+    let rows = rheosph::io::read_series(&out.join("series.csv")).unwrap();
+    assert!(!rows.is_empty());
+    assert!(is_png(&out.join("centre_velocity.png")));
+}

@@ -1,0 +1,29 @@
+//! Shared helpers of the integration tests.
+#![allow(dead_code)]
+
+use rheosph::case::{self, Case};
+use rheosph::run::{self, RunOptions, Summary};
+use std::path::PathBuf;
+
+pub const POISEUILLE: &str = include_str!("../../cases/poiseuille.toml");
+
+/// The shipped Poiseuille case with overrides.
+pub fn poiseuille(overrides: &[&str]) -> Case {
+    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    case::parse(POISEUILLE, "cases/poiseuille.toml", "poiseuille", &o).expect("valid case")
+}
+
+/// Runs a case quietly into a fresh temporary directory; returns the summary and the dir.
+pub fn run_quiet(case: &Case, charts: bool) -> (Summary, tempfile::TempDir) {
+    let dir = tempfile::tempdir().unwrap();
+    let summary = run::run(
+        case,
+        &RunOptions {
+            out_dir: PathBuf::from(dir.path()),
+            quiet: true,
+            charts,
+        },
+    )
+    .expect("run completes");
+    (summary, dir)
+}

@@ -1,0 +1,79 @@
+//! Start-up Poiseuille flow against the Waters & King (1970) series: coarse runs that CI can
+//! afford. The full-resolution numbers (H/δr = 30, 60, t = 15) are in the README.
+
+mod common;
+use common::{poiseuille, run_quiet};
+use rheosph::run::Outcome;
+
+/// Oldroyd-B, Re = Wi = 1, β = 0.1 at H/δr = 15 through the first overshoot (t ≈ 0.55) and
+/// undershoot (t ≈ 1.6). Measured: time-mean L2 error 4.5 %, overshoot peak within 1.3 %.
+/// The bounds (6 %, 3 %) leave room for round-off-level changes while any wrong sign or
+/// factor in a term of the step (stress divergence, EVSS, shifting, the log-conformation
+/// convective term) moves the centre-line velocity by tens of percent.
+#[test]
+fn coarse_oldroyd_b_start_up_follows_waters_king() {
+    let case = poiseuille(&["scene.resolution=15", "run.end_time=3"]);
+    let (s, _dir) = run_quiet(&case, false);
+    assert_eq!(s.outcome, Outcome::Finished, "{:?}", s.reason);
+    let e = &s.errors;
+    assert!(e.l2_time_mean < 0.06, "time-mean L2 {}", e.l2_time_mean);
+    let peak = e
+        .first_overshoot
+        .as_ref()
+        .expect("Oldroyd-B start-up overshoots");
+    assert!((peak.t - 0.55).abs() < 0.05, "overshoot at t = {}", peak.t);
+    assert!(
+        peak.relative_error < 0.03,
+        "overshoot error {}",
+        peak.relative_error
+    );
+    assert!(s.ppe.lu_fallbacks == 0);
+}
+
+/// The same in the Eulerian frame (particles fixed, u_ps = −u).
+#[test]
+fn coarse_eulerian_start_up_follows_waters_king() {
+    let case = poiseuille(&[
+        "scene.resolution=15",
+        "run.end_time=3",
+        "scheme.frame=eulerian",
+    ]);
+    let (s, _dir) = run_quiet(&case, false);
+    assert_eq!(s.outcome, Outcome::Finished, "{:?}", s.reason);
+    assert!(
+        s.errors.l2_time_mean < 0.06,
+        "time-mean L2 {}",
+        s.errors.l2_time_mean
+    );
+    let peak = s.errors.first_overshoot.as_ref().unwrap();
+    assert!(
+        peak.relative_error < 0.03,
+        "overshoot error {}",
+        peak.relative_error
+    );
+}
+
+/// Newtonian start-up in the Eulerian frame converges to the series solution at about second
+/// order in δr (King & Lind report O(δr²) for Eulerian SPH): L2 at t = 0.3 for H/δr = 12, 24.
+#[test]
+fn newtonian_eulerian_converges_at_second_order() {
+    let l2 = |n: usize| {
+        let case = poiseuille(&[
+            "fluid.model=newtonian",
+            "fluid.beta=1",
+            "fluid.relaxation_time=0",
+            &format!("scene.resolution={n}"),
+            "run.end_time=0.3",
+            "scheme.frame=eulerian",
+        ]);
+        let (s, _dir) = run_quiet(&case, false);
+        assert_eq!(s.outcome, Outcome::Finished);
+        s.errors.l2_final
+    };
+    let (coarse, fine) = (l2(12), l2(24));
+    let order = (coarse / fine).log2();
+    assert!(
+        order > 1.5,
+        "observed order {order:.2} ({coarse:.3e} -> {fine:.3e})"
+    );
+}
