@@ -121,6 +121,8 @@ pub struct SchemeSpec {
     pub ppe_tolerance: f64,
     /// BiCGStab iteration budget before the sparse-LU fallback.
     pub ppe_max_iterations: usize,
+    /// Start BiCGStab from the previous step's pressure (true) or from zero.
+    pub ppe_warm_start: bool,
     /// How the conformation is carried onto wall mirrors.
     pub wall_conformation: WallConformation,
 }
@@ -135,6 +137,7 @@ impl Default for SchemeSpec {
             dt_factor: 0.2,
             ppe_tolerance: 1e-8,
             ppe_max_iterations: 1000,
+            ppe_warm_start: true,
             wall_conformation: WallConformation::Even,
         }
     }
@@ -170,6 +173,7 @@ pub struct Scheme {
     pub dt_factor: f64,
     pub ppe_tolerance: f64,
     pub ppe_max_iterations: usize,
+    pub ppe_warm_start: bool,
     pub wall_conformation: crate::boundary::TensorMirror,
 }
 
@@ -514,6 +518,7 @@ fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
             dt_factor,
             ppe_tolerance,
             ppe_max_iterations: s.ppe_max_iterations,
+            ppe_warm_start: s.ppe_warm_start,
             wall_conformation: match s.wall_conformation {
                 WallConformation::Even => crate::boundary::TensorMirror::Even,
                 WallConformation::Reflected => crate::boundary::TensorMirror::Reflected,

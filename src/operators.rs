@@ -296,7 +296,7 @@ mod tests {
         let v = vec![Vec2::new(0.3, -2.0); n];
         let mut adv = vec![Sym2::ZERO; n];
         sums.advective_tensor(&list, &t, &v, &mut adv);
-        let expected = Sym2::new(0.3 * 2.0 - 2.0, 0.3 * -1.0 - 8.0, -1.0);
+        let expected = Sym2::new(0.3 * 2.0 - 2.0, -0.3 - 8.0, -1.0);
         assert!((adv[i] - expected).contract(&(adv[i] - expected)).sqrt() < 1e-10);
     }
 }

@@ -188,7 +188,7 @@ mod tests {
                 Sym2::sym_part(&(s + s.transpose()))
             };
             let eps = 1e-6;
-            let plus = (*&a + rate(&a) * eps).log();
+            let plus = (a + rate(&a) * eps).log();
             let minus = (a - rate(&a) * eps).log();
             let fd = (plus - minus) * (0.5 / eps);
             let exact = log_convective_term(&a, &grad);
@@ -221,7 +221,7 @@ mod tests {
     fn integrators_converge_to_simple_shear_start_up() {
         let (lambda, shear, t_end): (f64, f64, f64) = (1.0, 2.0, 2.0);
         let grad = Mat2::new(0.0, shear, 0.0, 0.0);
-        let e = (-t_end / lambda as f64).exp();
+        let e = (-t_end / lambda).exp();
         let exact = Sym2::new(
             1.0 + 2.0 * (lambda * shear).powi(2) * (1.0 - e * (1.0 + t_end / lambda)),
             lambda * shear * (1.0 - e),

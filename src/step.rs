@@ -320,6 +320,9 @@ impl Simulation {
             null_space: NullSpace::Constant,
             strategy: Strategy::IterativeWithFallback,
         };
+        if !scheme.ppe_warm_start {
+            state.pressure.iter_mut().for_each(|p| *p = 0.0);
+        }
         let ppe = timers
             .time(Stage::PpeSolve, || {
                 ws.ppe.solve(&mut state.pressure, &options)

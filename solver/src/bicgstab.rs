@@ -90,6 +90,15 @@ impl BiCgStabWorkspace {
             // True residual r = b − A' x.
             op.apply(x, &mut self.r, &mut self.partials);
             for_each_mut(&mut self.r, |i, ri| *ri = b[i] - *ri);
+            if rank_one != 0.0 {
+                // A' (k1) = c n k 1, so shifting x by a constant moves the residual's mean:
+                // remove it. A zero-mean warm start (the previous pressure) would otherwise
+                // begin with the whole incompatible part μ1 of b as its residual.
+                let mean = sum(&self.r, &mut self.partials) / n as f64;
+                let shift = mean / (rank_one * n as f64);
+                for_each_mut(x, |_, v| *v += shift);
+                for_each_mut(&mut self.r, |_, ri| *ri -= mean);
+            }
             if norm(&self.r, &mut self.partials) <= target {
                 converged = true;
                 break;
