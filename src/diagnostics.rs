@@ -71,7 +71,7 @@ impl ChannelReference {
             .collect();
         let xx = self
             .series
-            .normal_stress_profile(&eta, tau, 4000)
+            .normal_stress_profile(&eta, tau, 2000)
             .into_iter()
             .map(|v| v * s)
             .collect();
