@@ -63,7 +63,12 @@ pub struct PpeSummary {
     pub mean_iterations: f64,
     pub max_iterations: usize,
     pub lu_fallbacks: u64,
+    /// Largest relative residual ‖b − Ap‖/‖b‖ of any solve.
     pub max_relative_residual: f64,
+    /// Solves that stopped on the absolute floor (r.m.s. divergence below 1e-10 U/L) before
+    /// reaching the relative tolerance; for these ‖b‖ is near round-off and the relative
+    /// residual can be O(1) by design.
+    pub absolute_floor_stops: u64,
     pub matrix_nonzeros: usize,
 }
 
@@ -207,6 +212,7 @@ pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
             max_iterations: totals.max_iterations,
             lu_fallbacks: totals.fallbacks,
             max_relative_residual: totals.max_residual,
+            absolute_floor_stops: totals.floor_stops,
             matrix_nonzeros: sim.ppe_nonzeros(),
         },
         neighbour_pairs_per_particle: sim.neighbour_pairs() as f64 / sim.particles() as f64,
@@ -228,6 +234,7 @@ struct PpeWindow {
     max_iterations: usize,
     max_residual: f64,
     fallbacks: u64,
+    floor_stops: u64,
 }
 
 impl PpeWindow {
@@ -236,6 +243,7 @@ impl PpeWindow {
         self.iterations += r.iterations as u64;
         self.max_iterations = self.max_iterations.max(r.iterations);
         self.max_residual = self.max_residual.max(r.relative_residual);
+        self.floor_stops += r.on_absolute_floor as u64;
         self.fallbacks += r.fell_back as u64;
     }
 

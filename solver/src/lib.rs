@@ -102,6 +102,10 @@ pub struct SolveReport {
     pub relative_residual: f64,
     /// Whether BiCGStab failed and the sparse LU produced the solution.
     pub fell_back: bool,
+    /// Whether the solve ended on the absolute floor without reaching the relative
+    /// tolerance: a right-hand side at round-off level, where the relative residual is
+    /// meaningless (it is then O(1) by design).
+    pub on_absolute_floor: bool,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -164,6 +168,7 @@ impl Solver {
                 iterations: 0,
                 relative_residual: 0.0,
                 fell_back: false,
+                on_absolute_floor: false,
             });
         }
         let mut iterations = 0;
@@ -178,6 +183,7 @@ impl Solver {
                     iterations,
                     relative_residual: outcome.relative_residual,
                     fell_back: false,
+                    on_absolute_floor: outcome.relative_residual > options.relative_tolerance,
                 });
             }
         }
@@ -195,6 +201,7 @@ impl Solver {
                     iterations,
                     relative_residual: residual,
                     fell_back,
+                    on_absolute_floor: false,
                 })
             }
             Err(e) if best_residual.is_finite() && fell_back => {
