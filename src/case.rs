@@ -5,7 +5,9 @@
 //! names the file and the dotted field.
 
 use crate::kernel::{H_OVER_DR, SUPPORT_OVER_H};
-use crate::rheology::{ConformationScheme, Fluid, Model};
+use crate::rheology::{
+    ConformationScheme, ExponentialPtt, FeneCr, FeneP, Fluid, Giesekus, LinearPtt, Model,
+};
 use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::path::Path;
@@ -70,6 +72,27 @@ pub enum ModelName {
     Newtonian,
     OldroydB,
     Ucm,
+    FeneP,
+    FeneCr,
+    Lptt,
+    Eptt,
+    Giesekus,
+}
+
+impl ModelName {
+    /// The name as written in case files.
+    pub fn name(self) -> &'static str {
+        match self {
+            ModelName::Newtonian => "newtonian",
+            ModelName::OldroydB => "oldroyd-b",
+            ModelName::Ucm => "ucm",
+            ModelName::FeneP => "fene-p",
+            ModelName::FeneCr => "fene-cr",
+            ModelName::Lptt => "lptt",
+            ModelName::Eptt => "eptt",
+            ModelName::Giesekus => "giesekus",
+        }
+    }
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -84,6 +107,12 @@ pub struct FluidSpec {
     pub beta: Option<f64>,
     /// λ (viscoelastic models).
     pub relaxation_time: Option<f64>,
+    /// Extensibility L² (FENE-P, FENE-CR), > 2.
+    pub l2: Option<f64>,
+    /// ε (linear and exponential PTT), ≥ 0.
+    pub epsilon: Option<f64>,
+    /// Mobility α (Giesekus), in [0, 0.5].
+    pub alpha: Option<f64>,
 }
 
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
@@ -368,6 +397,72 @@ fn in_range(field: &str, v: f64, lo: f64, hi: f64) -> Result<f64, FieldError> {
     }
 }
 
+/// The model with its parameter, each parameter checked against its range and refused where
+/// the model has no such parameter.
+fn model_of(f: &FluidSpec) -> Result<Model, FieldError> {
+    let (l2, epsilon, alpha) = (f.l2, f.epsilon, f.alpha);
+    let uses = match f.model {
+        ModelName::FeneP | ModelName::FeneCr => "l2",
+        ModelName::Lptt | ModelName::Eptt => "epsilon",
+        ModelName::Giesekus => "alpha",
+        _ => "",
+    };
+    for (key, given) in [
+        ("l2", l2.is_some()),
+        ("epsilon", epsilon.is_some()),
+        ("alpha", alpha.is_some()),
+    ] {
+        if given && key != uses {
+            return Err(field_err(
+                &format!("fluid.{key}"),
+                format!("not a parameter of model `{}`", f.model.name()),
+            ));
+        }
+    }
+    let required = |v: Option<f64>, key: &str| {
+        v.ok_or_else(|| field_err(&format!("fluid.{key}"), "required for this model"))
+    };
+    let extensibility = |v: Option<f64>| -> Result<f64, FieldError> {
+        let l2 = required(v, "l2")?;
+        if l2.is_finite() && l2 > 2.0 {
+            Ok(l2)
+        } else {
+            Err(field_err(
+                "fluid.l2",
+                format!("must exceed 2 (tr A of the fluid at rest in 2D), got {l2}"),
+            ))
+        }
+    };
+    let ptt = |v: Option<f64>| -> Result<f64, FieldError> {
+        let e = required(v, "epsilon")?;
+        if e.is_finite() && e >= 0.0 {
+            Ok(e)
+        } else {
+            Err(field_err("fluid.epsilon", format!("must be ≥ 0, got {e}")))
+        }
+    };
+    Ok(match f.model {
+        ModelName::Newtonian => Model::Newtonian,
+        ModelName::OldroydB => Model::OldroydB,
+        ModelName::Ucm => Model::Ucm,
+        ModelName::FeneP => Model::FeneP(FeneP {
+            l2: extensibility(l2)?,
+        }),
+        ModelName::FeneCr => Model::FeneCr(FeneCr {
+            l2: extensibility(l2)?,
+        }),
+        ModelName::Lptt => Model::LinearPtt(LinearPtt {
+            epsilon: ptt(epsilon)?,
+        }),
+        ModelName::Eptt => Model::ExponentialPtt(ExponentialPtt {
+            epsilon: ptt(epsilon)?,
+        }),
+        ModelName::Giesekus => Model::Giesekus(Giesekus {
+            alpha: in_range("fluid.alpha", required(alpha, "alpha")?, 0.0, 0.5)?,
+        }),
+    })
+}
+
 fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
     let scene = &raw.scene;
     let length = positive("scene.length", scene.length)?;
@@ -417,11 +512,7 @@ fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
     let f = &raw.fluid;
     let density = positive("fluid.density", f.density)?;
     let viscosity = positive("fluid.viscosity", f.viscosity)?;
-    let model = match f.model {
-        ModelName::Newtonian => Model::Newtonian,
-        ModelName::OldroydB => Model::OldroydB,
-        ModelName::Ucm => Model::Ucm,
-    };
+    let model = model_of(f)?;
     let (beta, relaxation_time) = match model {
         Model::Newtonian => {
             if f.relaxation_time.is_some_and(|l| l != 0.0) {
@@ -438,7 +529,7 @@ fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
             }
             (1.0, 0.0)
         }
-        Model::OldroydB | Model::Ucm => {
+        _ => {
             let lambda = f.relaxation_time.ok_or_else(|| {
                 field_err("fluid.relaxation_time", "required for a viscoelastic model")
             })?;
@@ -454,9 +545,9 @@ fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
                     _ => 0.0,
                 }
             } else {
-                let b = f
-                    .beta
-                    .ok_or_else(|| field_err("fluid.beta", "required for oldroyd-b"))?;
+                let b = f.beta.ok_or_else(|| {
+                    field_err("fluid.beta", format!("required for {}", model.name()))
+                })?;
                 in_range("fluid.beta", b, 0.0, 1.0)?
             };
             (beta, lambda)

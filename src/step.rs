@@ -126,7 +126,7 @@ impl Simulation {
     pub fn new(setup: Setup) -> Self {
         let n = setup.positions.len();
         let conformation = if setup.fluid.model.is_viscoelastic() {
-            vec![Sym2::IDENTITY; n]
+            vec![setup.fluid.model.rest_conformation(); n]
         } else {
             Vec::new()
         };

@@ -2,17 +2,24 @@
 //! and the integration of the conformation tensor: log-conformation (eqs. (12)–(19),
 //! (29)–(32)) or direct first-order Euler on A (eq. (10)).
 
-use crate::math::{Mat2, Sym2};
+pub mod models;
 
-/// A constitutive model: τ_p = (η_p/λ) f_S(A), ∇-derivative of A = −f_R(A)/λ.
+use crate::math::{Mat2, Sym2};
+pub use models::{Constitutive, ExponentialPtt, FeneCr, FeneP, Giesekus, LinearPtt, OldroydB};
+
+/// The fluid's constitutive model: a Newtonian fluid or one of the types of Table I.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Model {
     /// No polymer: τ = 2η0 D. No conformation tensor is stored or integrated.
     Newtonian,
-    /// f_S = f_R = A − I.
     OldroydB,
     /// Upper-convected Maxwell: Oldroyd-B with β = 0.
     Ucm,
+    FeneP(FeneP),
+    FeneCr(FeneCr),
+    LinearPtt(LinearPtt),
+    ExponentialPtt(ExponentialPtt),
+    Giesekus(Giesekus),
 }
 
 impl Model {
@@ -21,6 +28,11 @@ impl Model {
             Model::Newtonian => "newtonian",
             Model::OldroydB => "oldroyd-b",
             Model::Ucm => "ucm",
+            Model::FeneP(_) => "fene-p",
+            Model::FeneCr(_) => "fene-cr",
+            Model::LinearPtt(_) => "lptt",
+            Model::ExponentialPtt(_) => "eptt",
+            Model::Giesekus(_) => "giesekus",
         }
     }
 
@@ -28,28 +40,49 @@ impl Model {
         !matches!(self, Model::Newtonian)
     }
 
-    /// Strain function f_S(A), eq. (9).
-    pub fn strain(&self, a: &Sym2) -> Sym2 {
+    /// The Table I functions of a viscoelastic model.
+    #[inline]
+    pub fn constitutive(&self) -> Option<&dyn Constitutive> {
         match self {
-            Model::Newtonian => Sym2::ZERO,
-            Model::OldroydB | Model::Ucm => *a - Sym2::IDENTITY,
+            Model::Newtonian => None,
+            Model::OldroydB | Model::Ucm => Some(&OldroydB),
+            Model::FeneP(m) => Some(m),
+            Model::FeneCr(m) => Some(m),
+            Model::LinearPtt(m) => Some(m),
+            Model::ExponentialPtt(m) => Some(m),
+            Model::Giesekus(m) => Some(m),
         }
+    }
+
+    /// Strain function f_S(A), eq. (9) (zero for a Newtonian fluid).
+    pub fn strain(&self, a: &Sym2) -> Sym2 {
+        self.constitutive().map_or(Sym2::ZERO, |m| m.strain(a))
     }
 
     /// Relaxation function f_R(A), eq. (10).
     pub fn relaxation(&self, a: &Sym2) -> Sym2 {
-        match self {
-            Model::Newtonian => Sym2::ZERO,
-            Model::OldroydB | Model::Ucm => *a - Sym2::IDENTITY,
-        }
+        self.constitutive().map_or(Sym2::ZERO, |m| m.relaxation(a))
     }
 
-    /// `(α_R, β_R)` with f_R = α_R(β_R A − I), for the quasi-analytic source step (32);
-    /// `None` where f_R has no such form (the source is then integrated explicitly, (33)).
-    pub fn relaxation_coefficients(&self, _a: &Sym2) -> Option<(f64, f64)> {
+    /// `(α_R, β_R)` with f_R = α_R(β_R A − I), for the quasi-analytic source step (32).
+    pub fn relaxation_coefficients(&self, a: &Sym2) -> Option<(f64, f64)> {
+        self.constitutive()
+            .and_then(|m| m.relaxation_coefficients(a))
+    }
+
+    /// Conformation of the fluid at rest.
+    pub fn rest_conformation(&self) -> Sym2 {
+        self.constitutive()
+            .map_or(Sym2::IDENTITY, |m| m.rest_conformation())
+    }
+
+    /// Inverts f_S (§III B, Step 1): the conformation whose strain function is `strain`
+    /// (= λτ_p/η_p), given tr A where f_S depends on it (the paper stores tr A for this).
+    pub fn conformation_from_strain(&self, strain: &Sym2, trace: f64) -> Sym2 {
         match self {
-            Model::Newtonian => None,
-            Model::OldroydB | Model::Ucm => Some((1.0, 1.0)),
+            Model::FeneP(m) => (*strain + Sym2::IDENTITY) * (1.0 - trace / m.l2),
+            Model::FeneCr(m) => *strain * (1.0 - trace / m.l2) + Sym2::IDENTITY,
+            _ => *strain + Sym2::IDENTITY,
         }
     }
 }
