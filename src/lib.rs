@@ -19,6 +19,7 @@ pub mod neighbours;
 pub mod operators;
 pub mod plot;
 pub mod pressure;
+pub mod reference;
 pub mod rheology;
 pub mod run;
 pub mod scene;

@@ -170,7 +170,37 @@ fn bad_input_is_one_clear_line_and_exit_code_2() {
         ("scene.resolution=abc", "scene.resolution"),
         ("fluid.viscosity=-2", "fluid.viscosity"),
         ("fluid.model=ucm", "fluid.beta"),
+        ("fluid.model=fene-p", "fluid.l2"),
+        ("fluid.l2=50", "fluid.l2"),
+        ("fluid.alpha=0.2", "fluid.alpha"),
     ];
+    let models: &[(&[&str], &str)] = &[
+        (&["fluid.model=fene-p", "fluid.l2=2"], "fluid.l2"),
+        (&["fluid.model=fene-cr", "fluid.l2=1.5"], "fluid.l2"),
+        (&["fluid.model=lptt", "fluid.epsilon=-0.1"], "fluid.epsilon"),
+        (&["fluid.model=eptt"], "fluid.epsilon"),
+        (&["fluid.model=giesekus", "fluid.alpha=0.6"], "fluid.alpha"),
+        (
+            &["fluid.model=giesekus", "fluid.alpha=-0.01"],
+            "fluid.alpha",
+        ),
+        (
+            &["fluid.model=giesekus", "fluid.alpha=0.2", "fluid.l2=10"],
+            "fluid.l2",
+        ),
+    ];
+    for (sets, field) in models {
+        let mut args = vec!["check", good.as_str()];
+        for s in *sets {
+            args.push("--set");
+            args.push(s);
+        }
+        let o = rheosph(&args);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{sets:?}: {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{sets:?}: {err}");
+        assert!(err.contains(field), "{sets:?}: {err}");
+    }
     for (set, field) in overrides {
         let o = rheosph(&["check", &good, "--set", set]);
         let err = String::from_utf8_lossy(&o.stderr);

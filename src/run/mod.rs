@@ -1,10 +1,15 @@
 //! A run: the time loop around [`Simulation`], the analytic comparison, and the run
 //! directory (`series.csv`, `summary.json`, PNG charts).
 
+mod charts;
+mod errors;
+
+pub use errors::{Errors, Peak};
+
 use crate::case::{Case, Derived};
-use crate::diagnostics::{self, ChannelReference};
+use crate::diagnostics;
 use crate::io::{self, SeriesRow};
-use crate::plot::{self, Chart, Curve, CurveStyle, PALETTE};
+use crate::reference::Reference;
 use crate::scene;
 use crate::step::Simulation;
 use crate::timing::{Stage, StageSeconds};
@@ -30,32 +35,6 @@ pub struct RunOptions {
 pub enum Outcome {
     Finished,
     BrokeDown,
-}
-
-/// The analytic comparison at the first overshoot of the centre-line velocity.
-#[derive(Clone, Debug, Serialize)]
-pub struct Peak {
-    pub t: f64,
-    pub u_centre_exact: f64,
-    pub u_centre: f64,
-    pub relative_error: f64,
-}
-
-#[derive(Clone, Debug, Serialize)]
-pub struct Errors {
-    /// Mean over the rows of series.csv (uniform in time) of the velocity L2 error.
-    pub l2_time_mean: f64,
-    pub l2_final: f64,
-    pub l2_max: f64,
-    pub u_centre_final: f64,
-    pub u_centre_exact_final: f64,
-    pub u_centre_final_relative_error: f64,
-    /// First local maximum of the analytic centre-line velocity (none for monotone start-up).
-    pub first_overshoot: Option<Peak>,
-    /// Relative L2 errors of the polymer stresses at the end, against the analytic profiles
-    /// at the stress time t − δt/2: ‖τ − τ_exact‖/‖τ_exact‖.
-    pub tau_xy_relative_l2: Option<f64>,
-    pub tau_xx_relative_l2: Option<f64>,
 }
 
 #[derive(Clone, Debug, Serialize)]
@@ -105,7 +84,10 @@ pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
         report_start(case, &derived);
     }
     let mut sim = Simulation::new(scene::channel(case));
-    let mut reference = ChannelReference::new(case);
+    let mut reference = Reference::for_case(case);
+    if let (Err(why), false) = (&reference, options.quiet) {
+        eprintln!("  no analytic reference: {why}");
+    }
     let series_path = options.out_dir.join("series.csv");
     let summary_path = options.out_dir.join("summary.json");
     // A previous run's summary must not survive to describe this one.
@@ -125,7 +107,7 @@ pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
 
     record(
         &mut sim,
-        &mut reference,
+        reference.as_mut().ok(),
         &mut exact,
         &mut window,
         0.0,
@@ -149,7 +131,7 @@ pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
         {
             record(
                 &mut sim,
-                &mut reference,
+                reference.as_mut().ok(),
                 &mut exact,
                 &mut window,
                 last_dt,
@@ -171,7 +153,7 @@ pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
     if breakdown.is_some() && window.steps > 0 {
         record(
             &mut sim,
-            &mut reference,
+            reference.as_mut().ok(),
             &mut exact,
             &mut window,
             last_dt,
@@ -182,10 +164,20 @@ pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
 
     let t0 = Instant::now();
     io::write_atomic(&series_path, io::series_csv(&rows).as_bytes())?;
-    let stresses = ExactStresses::at_stress_time(&sim, &reference, last_dt);
-    let errors = final_errors(&sim, &rows, stresses.as_ref());
+    let (errors, stresses) = errors::final_errors(
+        &sim,
+        reference.as_mut().map_err(|e| e.as_str()),
+        &rows,
+        last_dt,
+    );
     if options.charts {
-        draw_charts(&options.out_dir, &sim, &reference, &rows, stresses.as_ref())?;
+        charts::draw(
+            &options.out_dir,
+            &sim,
+            reference.as_ref().ok(),
+            &rows,
+            stresses.as_ref(),
+        )?;
     }
     sim.timers.add(Stage::Output, t0.elapsed().as_secs_f64());
     let wall_seconds = start.elapsed().as_secs_f64();
@@ -259,7 +251,7 @@ impl PpeWindow {
 /// Appends a series row for the current state and resets the PPE window.
 fn record(
     sim: &mut Simulation,
-    reference: &mut ChannelReference,
+    reference: Option<&mut Reference>,
     exact: &mut Vec<f64>,
     window: &mut PpeWindow,
     dt: f64,
@@ -267,7 +259,6 @@ fn record(
 ) {
     let t0 = Instant::now();
     let s = &sim.state;
-    reference.velocity_at(&s.position, s.time, exact);
     let height = sim.domain.max.y - sim.domain.min.y;
     let stats = diagnostics::field_stats(
         &s.velocity,
@@ -275,6 +266,16 @@ fn record(
         sim.fluid.density,
         sim.particle_volume(),
     );
+    let (u_centre_exact, l2_error) = match reference {
+        Some(r) => {
+            r.velocity_at(&s.position, s.time, exact);
+            (
+                r.centre_velocity(s.time),
+                diagnostics::l2_error(&s.velocity, exact, r.velocity_scale),
+            )
+        }
+        None => (f64::NAN, f64::NAN),
+    };
     rows.push(SeriesRow {
         t: s.time,
         dt,
@@ -285,8 +286,8 @@ fn record(
             0.5 * height,
             sim.spacing,
         ),
-        u_centre_exact: reference.centre_velocity(s.time),
-        l2_error: diagnostics::l2_error(&s.velocity, exact, reference.velocity_scale),
+        u_centre_exact,
+        l2_error,
         ppe_iterations: window.mean_iterations(),
         ppe_residual: window.max_residual,
         ppe_fallbacks: window.fallbacks as u32,
@@ -298,217 +299,6 @@ fn record(
     *window = PpeWindow::default();
     sim.timers
         .add(Stage::Diagnostics, t0.elapsed().as_secs_f64());
-}
-
-fn relative(a: f64, b: f64) -> f64 {
-    if b != 0.0 {
-        (a - b).abs() / b.abs()
-    } else {
-        (a - b).abs()
-    }
-}
-
-fn final_errors(sim: &Simulation, rows: &[SeriesRow], stresses: Option<&ExactStresses>) -> Errors {
-    let l2: Vec<f64> = rows
-        .iter()
-        .map(|r| r.l2_error)
-        .filter(|v| v.is_finite())
-        .collect();
-    let last = rows.last().copied().unwrap_or_default();
-    let first_overshoot = rows.windows(3).find(|w| {
-        w[1].u_centre_exact > w[0].u_centre_exact && w[1].u_centre_exact >= w[2].u_centre_exact
-    });
-    let (tau_xy, tau_xx) = stresses.map_or((None, None), |s| s.relative_errors(sim));
-    Errors {
-        l2_time_mean: if l2.is_empty() {
-            f64::NAN
-        } else {
-            l2.iter().sum::<f64>() / l2.len() as f64
-        },
-        l2_final: last.l2_error,
-        l2_max: l2.iter().copied().fold(0.0, f64::max),
-        u_centre_final: last.u_centre,
-        u_centre_exact_final: last.u_centre_exact,
-        u_centre_final_relative_error: relative(last.u_centre, last.u_centre_exact),
-        first_overshoot: first_overshoot.map(|w| Peak {
-            t: w[1].t,
-            u_centre_exact: w[1].u_centre_exact,
-            u_centre: w[1].u_centre,
-            relative_error: relative(w[1].u_centre, w[1].u_centre_exact),
-        }),
-        tau_xy_relative_l2: tau_xy,
-        tau_xx_relative_l2: tau_xx,
-    }
-}
-
-/// Exact polymer stress profiles at the stress time t − δt/2 (§III B), on a grid of heights
-/// and interpolated to the particles: τ_xx needs a time integration per height, so it is not
-/// evaluated particle by particle.
-struct ExactStresses {
-    grid: Vec<f64>,
-    xy: Vec<f64>,
-    xx: Vec<f64>,
-}
-
-impl ExactStresses {
-    fn at_stress_time(sim: &Simulation, reference: &ChannelReference, dt: f64) -> Option<Self> {
-        if !sim.fluid.model.is_viscoelastic() {
-            return None;
-        }
-        let t = (sim.state.time - 0.5 * dt).max(0.0);
-        let height = sim.domain.max.y - sim.domain.min.y;
-        let grid: Vec<f64> = (0..=100).map(|k| height * k as f64 / 100.0).collect();
-        let (xy, xx) = reference.stress_profiles(&grid, t);
-        Some(Self { grid, xy, xx })
-    }
-
-    fn interpolate(&self, values: &[f64], y: f64) -> f64 {
-        let g = &self.grid;
-        let step = g[1] - g[0];
-        let k = (((y - g[0]) / step).floor().max(0.0) as usize).min(g.len() - 2);
-        let w = (y - g[k]) / step;
-        values[k] * (1.0 - w) + values[k + 1] * w
-    }
-
-    /// ‖τ − τ_exact‖/‖τ_exact‖ over the particles, for τ_xy and τ_xx.
-    fn relative_errors(&self, sim: &Simulation) -> (Option<f64>, Option<f64>) {
-        let tau = sim.polymer_stress();
-        let norm = |num: &dyn Fn(usize) -> f64, exact: &[f64]| {
-            let (mut diff, mut base) = (0.0, 0.0);
-            for (i, p) in sim.state.position.iter().enumerate() {
-                let e = self.interpolate(exact, p.y);
-                diff += (num(i) - e).powi(2);
-                base += e * e;
-            }
-            (base > 0.0).then(|| (diff / base).sqrt())
-        };
-        (
-            norm(&|i| tau[i].xy, &self.xy),
-            norm(&|i| tau[i].xx, &self.xx),
-        )
-    }
-}
-
-fn draw_charts(
-    dir: &Path,
-    sim: &Simulation,
-    reference: &ChannelReference,
-    rows: &[SeriesRow],
-    stresses: Option<&ExactStresses>,
-) -> Result<()> {
-    plot::draw(
-        &dir.join("centre_velocity.png"),
-        &Chart {
-            title: "Centre-line velocity".into(),
-            x_label: "t".into(),
-            y_label: "u(H/2)".into(),
-            ..Default::default()
-        },
-        &[
-            Curve {
-                label: "Waters & King".into(),
-                points: rows.iter().map(|r| (r.t, r.u_centre_exact)).collect(),
-                style: CurveStyle::Line,
-                color: PALETTE[1],
-            },
-            Curve {
-                label: "rheosph".into(),
-                points: rows.iter().map(|r| (r.t, r.u_centre)).collect(),
-                style: CurveStyle::Dashed,
-                color: PALETTE[0],
-            },
-        ],
-    )?;
-    plot::draw(
-        &dir.join("l2_error.png"),
-        &Chart {
-            title: "Velocity L2 error".into(),
-            x_label: "t".into(),
-            y_label: "L2 error / U".into(),
-            log_y: true,
-            ..Default::default()
-        },
-        &[Curve {
-            label: String::new(),
-            points: rows.iter().skip(1).map(|r| (r.t, r.l2_error)).collect(),
-            style: CurveStyle::Line,
-            color: PALETTE[0],
-        }],
-    )?;
-    draw_profiles(dir, sim, reference, stresses)
-}
-
-/// Final profiles across the channel: every particle against the analytic line.
-fn draw_profiles(
-    dir: &Path,
-    sim: &Simulation,
-    reference: &ChannelReference,
-    stresses: Option<&ExactStresses>,
-) -> Result<()> {
-    let s = &sim.state;
-    let height = sim.domain.max.y - sim.domain.min.y;
-    let ys: Vec<f64> = (0..=200).map(|k| height * k as f64 / 200.0).collect();
-    let exact_u = reference.velocity_profile(&ys, s.time);
-    let profile = |name: &str, label: &str, numeric: Vec<(f64, f64)>, exact: Vec<(f64, f64)>| {
-        plot::draw(
-            &dir.join(name),
-            &Chart {
-                title: format!("{label} across the channel at t = {:.3}", s.time),
-                x_label: "y".into(),
-                y_label: label.into(),
-                ..Default::default()
-            },
-            &[
-                Curve {
-                    label: "analytic".into(),
-                    points: exact,
-                    style: CurveStyle::Line,
-                    color: PALETTE[1],
-                },
-                Curve {
-                    label: "particles".into(),
-                    points: numeric,
-                    style: CurveStyle::Markers,
-                    color: PALETTE[0],
-                },
-            ],
-        )
-    };
-    profile(
-        "profile_velocity.png",
-        "u",
-        s.position
-            .iter()
-            .zip(&s.velocity)
-            .map(|(p, u)| (p.y, u.x))
-            .collect(),
-        ys.iter().copied().zip(exact_u).collect(),
-    )?;
-    if let Some(ex) = stresses {
-        let (grid, xy, xx) = (&ex.grid, ex.xy.clone(), ex.xx.clone());
-        let tau = sim.polymer_stress();
-        profile(
-            "profile_tau_xy.png",
-            "tau_p,xy",
-            s.position
-                .iter()
-                .zip(&tau)
-                .map(|(p, t)| (p.y, t.xy))
-                .collect(),
-            grid.iter().copied().zip(xy).collect(),
-        )?;
-        profile(
-            "profile_tau_xx.png",
-            "tau_p,xx",
-            s.position
-                .iter()
-                .zip(&tau)
-                .map(|(p, t)| (p.y, t.xx))
-                .collect(),
-            grid.iter().copied().zip(xx).collect(),
-        )?;
-    }
-    Ok(())
 }
 
 fn progress_bar(quiet: bool, end_time: f64) -> ProgressBar {
@@ -567,9 +357,15 @@ fn report_end(s: &Summary, dir: &Path) {
             s.reason.as_deref().unwrap_or("?")
         ),
     }
+    if let (Some(mean), Some(last)) = (s.errors.l2_time_mean, s.errors.l2_final) {
+        eprintln!(
+            "  velocity L2 error against {}: time mean {mean:.3e}, final {last:.3e}",
+            s.errors.reference.unwrap_or("?")
+        );
+    }
     eprintln!(
-        "  L2 error: time mean {:.3e}, final {:.3e}; {:.0} particle-steps/s ({:.1} s wall, PPE {:.1} it/step)",
-        s.errors.l2_time_mean, s.errors.l2_final, s.particle_steps_per_second, s.wall_seconds, s.ppe.mean_iterations
+        "  {:.0} particle-steps/s ({:.1} s wall, PPE {:.1} iterations/step)",
+        s.particle_steps_per_second, s.wall_seconds, s.ppe.mean_iterations
     );
     eprintln!("  output in {}", dir.display());
 }

@@ -1,0 +1,172 @@
+//! The PNG charts of a run: centre-line velocity and L2 error against time, and the final
+//! profiles across the channel, each against the analytic reference where there is one.
+
+use super::errors::ExactStresses;
+use crate::io::SeriesRow;
+use crate::plot::{self, Chart, Curve, CurveStyle, PALETTE};
+use crate::reference::Reference;
+use crate::step::Simulation;
+use anyhow::Result;
+use std::path::Path;
+
+fn analytic(points: Vec<(f64, f64)>) -> Curve {
+    Curve {
+        label: "analytic".into(),
+        points,
+        style: CurveStyle::Line,
+        color: PALETTE[1],
+    }
+}
+
+/// Draws every chart of the run directory.
+pub fn draw(
+    dir: &Path,
+    sim: &Simulation,
+    reference: Option<&Reference>,
+    rows: &[SeriesRow],
+    stresses: Option<&ExactStresses>,
+) -> Result<()> {
+    let mut curves = vec![Curve {
+        label: "rheosph".into(),
+        points: rows.iter().map(|r| (r.t, r.u_centre)).collect(),
+        style: CurveStyle::Dashed,
+        color: PALETTE[0],
+    }];
+    if let Some(r) = reference {
+        let label = if r.is_steady() {
+            "steady state"
+        } else {
+            "Waters & King"
+        };
+        curves.insert(
+            0,
+            Curve {
+                label: label.into(),
+                points: rows.iter().map(|r| (r.t, r.u_centre_exact)).collect(),
+                style: CurveStyle::Line,
+                color: PALETTE[1],
+            },
+        );
+    }
+    plot::draw(
+        &dir.join("centre_velocity.png"),
+        &Chart {
+            title: format!("Centre-line velocity ({})", sim.fluid.model.name()),
+            x_label: "t".into(),
+            y_label: "u(H/2)".into(),
+            ..Default::default()
+        },
+        &curves,
+    )?;
+    if reference.is_some() {
+        plot::draw(
+            &dir.join("l2_error.png"),
+            &Chart {
+                title: "Velocity L2 error".into(),
+                x_label: "t".into(),
+                y_label: "L2 error / U".into(),
+                log_y: true,
+                ..Default::default()
+            },
+            &[Curve {
+                label: String::new(),
+                points: rows.iter().skip(1).map(|r| (r.t, r.l2_error)).collect(),
+                style: CurveStyle::Line,
+                color: PALETTE[0],
+            }],
+        )?;
+    }
+    profiles(dir, sim, reference, stresses)
+}
+
+/// Final profiles across the channel: every particle against the analytic line.
+fn profiles(
+    dir: &Path,
+    sim: &Simulation,
+    reference: Option<&Reference>,
+    stresses: Option<&ExactStresses>,
+) -> Result<()> {
+    let s = &sim.state;
+    let height = sim.domain.max.y - sim.domain.min.y;
+    let profile =
+        |name: &str, label: &str, numeric: Vec<(f64, f64)>, exact: Option<Vec<(f64, f64)>>| {
+            let mut curves = Vec::new();
+            if let Some(points) = exact {
+                curves.push(analytic(points));
+            }
+            curves.push(Curve {
+                label: "particles".into(),
+                points: numeric,
+                style: CurveStyle::Markers,
+                color: PALETTE[0],
+            });
+            plot::draw(
+                &dir.join(name),
+                &Chart {
+                    title: format!("{label} across the channel at t = {:.3}", s.time),
+                    x_label: "y".into(),
+                    y_label: label.into(),
+                    ..Default::default()
+                },
+                &curves,
+            )
+        };
+    let ys: Vec<f64> = (0..=200).map(|k| height * k as f64 / 200.0).collect();
+    let exact_u = reference.map(|r| {
+        ys.iter()
+            .copied()
+            .zip(r.velocity_profile(&ys, s.time))
+            .collect()
+    });
+    profile(
+        "profile_velocity.png",
+        "u",
+        s.position
+            .iter()
+            .zip(&s.velocity)
+            .map(|(p, u)| (p.y, u.x))
+            .collect(),
+        exact_u,
+    )?;
+    if !sim.fluid.model.is_viscoelastic() {
+        return Ok(());
+    }
+    let tau = sim.polymer_stress();
+    let exact = |values: fn(&ExactStresses) -> &Vec<f64>| {
+        stresses.map(|e| {
+            e.grid
+                .iter()
+                .copied()
+                .zip(values(e).iter().copied())
+                .collect()
+        })
+    };
+    let numeric = |f: fn(&crate::math::Sym2) -> f64| -> Vec<(f64, f64)> {
+        s.position
+            .iter()
+            .zip(&tau)
+            .map(|(p, t)| (p.y, f(t)))
+            .collect()
+    };
+    profile(
+        "profile_tau_xy.png",
+        "tau_p,xy",
+        numeric(|t| t.xy),
+        exact(|e| &e.profiles.xy),
+    )?;
+    profile(
+        "profile_tau_xx.png",
+        "tau_p,xx",
+        numeric(|t| t.xx),
+        exact(|e| &e.profiles.xx),
+    )?;
+    if matches!(sim.fluid.model, crate::rheology::Model::Giesekus(_)) {
+        profile(
+            "profile_tau_yy.png",
+            "tau_p,yy",
+            numeric(|t| t.yy),
+            exact(|e| &e.profiles.yy),
+        )?;
+    }
+    Ok(())
+}
