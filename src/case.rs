@@ -152,6 +152,8 @@ pub struct SchemeSpec {
     pub ppe_max_iterations: usize,
     /// Start BiCGStab from the previous step's pressure (true) or from zero.
     pub ppe_warm_start: bool,
+    /// Periodically sort particles along a Morton curve for memory locality.
+    pub reorder: bool,
     /// How the conformation is carried onto wall mirrors.
     pub wall_conformation: WallConformation,
 }
@@ -167,6 +169,7 @@ impl Default for SchemeSpec {
             ppe_tolerance: 1e-8,
             ppe_max_iterations: 1000,
             ppe_warm_start: true,
+            reorder: true,
             wall_conformation: WallConformation::Even,
         }
     }
@@ -203,6 +206,7 @@ pub struct Scheme {
     pub ppe_tolerance: f64,
     pub ppe_max_iterations: usize,
     pub ppe_warm_start: bool,
+    pub reorder: bool,
     pub wall_conformation: crate::boundary::TensorMirror,
 }
 
@@ -610,6 +614,7 @@ fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
             ppe_tolerance,
             ppe_max_iterations: s.ppe_max_iterations,
             ppe_warm_start: s.ppe_warm_start,
+            reorder: s.reorder,
             wall_conformation: match s.wall_conformation {
                 WallConformation::Even => crate::boundary::TensorMirror::Even,
                 WallConformation::Reflected => crate::boundary::TensorMirror::Reflected,

@@ -27,6 +27,25 @@ pub enum Command {
     Run(RunArgs),
     /// Validate a case file and print its derived numbers without running it.
     Check(CaseArgs),
+    /// Overlay the final profiles of several run directories, each with its analytic curve.
+    CompareProfiles(CompareArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct CompareArgs {
+    /// Run directories (each with profile.csv and summary.json).
+    #[arg(required = true)]
+    pub runs: Vec<PathBuf>,
+    /// The output PNG.
+    #[arg(long, value_name = "FILE")]
+    pub out: PathBuf,
+    #[arg(long, value_enum, default_value = "u")]
+    pub field: crate::compare::Field,
+    /// Divide values by this scale (e.g. the velocity scale U).
+    #[arg(long, default_value_t = 1.0)]
+    pub scale: f64,
+    #[arg(long, default_value = "Final profiles")]
+    pub title: String,
 }
 
 #[derive(Args, Debug)]
@@ -90,6 +109,16 @@ fn dispatch(cli: Cli) -> anyhow::Result<ExitCode> {
                 Outcome::Finished => ExitCode::SUCCESS,
                 Outcome::BrokeDown => ExitCode::from(EXIT_BROKE_DOWN),
             })
+        }
+        Command::CompareProfiles(args) => {
+            crate::compare::compare_profiles(
+                &args.runs,
+                args.field,
+                args.scale,
+                &args.title,
+                &args.out,
+            )?;
+            Ok(ExitCode::SUCCESS)
         }
         Command::Check(args) => {
             let case = case::load(&args.case, &args.set)?;

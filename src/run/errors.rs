@@ -69,7 +69,7 @@ impl ExactStresses {
         Some(Self { grid, profiles })
     }
 
-    fn interpolate(&self, values: &[f64], y: f64) -> f64 {
+    pub fn interpolate(&self, values: &[f64], y: f64) -> f64 {
         let g = &self.grid;
         let step = g[1] - g[0];
         let k = (((y - g[0]) / step).floor().max(0.0) as usize).min(g.len() - 2);
@@ -157,4 +157,42 @@ pub fn final_errors(
         tau_yy_relative_l2: tau_yy,
     };
     (errors, stresses)
+}
+
+/// `profile.csv`: every particle at the end of the run with the analytic values at its height
+/// (empty where there is no reference), for post-processing and profile comparisons.
+pub fn profile_csv(
+    sim: &Simulation,
+    reference: Option<&mut Reference>,
+    stresses: Option<&ExactStresses>,
+) -> String {
+    let s = &sim.state;
+    let mut exact_u = Vec::new();
+    let has_reference = reference.is_some();
+    if let Some(r) = reference {
+        r.velocity_at(&s.position, s.time, &mut exact_u);
+    }
+    let tau = sim.polymer_stress();
+    let mut out = String::from(
+        "x,y,u,v,u_exact,tau_xx,tau_xy,tau_yy,tau_xx_exact,tau_xy_exact,tau_yy_exact\n",
+    );
+    let blank = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:.8e}"));
+    for (i, p) in s.position.iter().enumerate() {
+        let ex = |f: fn(&ExactStresses) -> &Vec<f64>| stresses.map(|e| e.interpolate(f(e), p.y));
+        out.push_str(&format!(
+            "{:.8e},{:.8e},{:.8e},{:.8e},{},{:.8e},{:.8e},{:.8e},{},{},{}\n",
+            p.x,
+            p.y,
+            s.velocity[i].x,
+            s.velocity[i].y,
+            blank(has_reference.then(|| exact_u[i])),
+            tau[i].xx,
+            tau[i].xy,
+            tau[i].yy,
+            blank(ex(|e| &e.profiles.xx)),
+            blank(ex(|e| &e.profiles.xy)),
+            blank(ex(|e| &e.profiles.yy)),
+        ));
+    }
+    out
 }

@@ -170,6 +170,10 @@ pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
         &rows,
         last_dt,
     );
+    io::write_atomic(
+        &options.out_dir.join("profile.csv"),
+        errors::profile_csv(&sim, reference.as_mut().ok(), stresses.as_ref()).as_bytes(),
+    )?;
     if options.charts {
         charts::draw(
             &options.out_dir,
