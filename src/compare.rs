@@ -25,8 +25,11 @@ impl Field {
     }
 }
 
-/// One run's label and (y, numeric, exact) rows.
-fn read_run(dir: &Path, field: Field) -> Result<(String, Vec<(f64, f64, Option<f64>)>)> {
+/// (y, numeric value, analytic value) of one particle.
+type ProfileRow = (f64, f64, Option<f64>);
+
+/// One run's label and rows.
+fn read_run(dir: &Path, field: Field) -> Result<(String, Vec<ProfileRow>)> {
     let text = std::fs::read_to_string(dir.join("profile.csv"))
         .with_context(|| format!("reading {}", dir.join("profile.csv").display()))?;
     let mut lines = text.lines();
