@@ -129,6 +129,17 @@ pub enum ConformationName {
     Direct,
 }
 
+/// Which linear solver the PPE uses.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum PpeSolver {
+    /// Sparse LU, factorised once, for fixed particles (Eulerian); warm-started BiCGStab with
+    /// LU fallback when the matrix changes every step (Lagrangian).
+    Auto,
+    Bicgstab,
+    Lu,
+}
+
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "kebab-case")]
 pub enum WallConformation {
@@ -152,6 +163,8 @@ pub struct SchemeSpec {
     pub ppe_max_iterations: usize,
     /// Start BiCGStab from the previous step's pressure (true) or from zero.
     pub ppe_warm_start: bool,
+    /// `auto`, `bicgstab` or `lu`.
+    pub ppe_solver: PpeSolver,
     /// Periodically sort particles along a Morton curve for memory locality.
     pub reorder: bool,
     /// How the conformation is carried onto wall mirrors.
@@ -169,6 +182,7 @@ impl Default for SchemeSpec {
             ppe_tolerance: 1e-8,
             ppe_max_iterations: 1000,
             ppe_warm_start: true,
+            ppe_solver: PpeSolver::Auto,
             reorder: true,
             wall_conformation: WallConformation::Even,
         }
@@ -206,6 +220,7 @@ pub struct Scheme {
     pub ppe_tolerance: f64,
     pub ppe_max_iterations: usize,
     pub ppe_warm_start: bool,
+    pub ppe_solver: PpeSolver,
     pub reorder: bool,
     pub wall_conformation: crate::boundary::TensorMirror,
 }
@@ -614,6 +629,7 @@ fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
             ppe_tolerance,
             ppe_max_iterations: s.ppe_max_iterations,
             ppe_warm_start: s.ppe_warm_start,
+            ppe_solver: s.ppe_solver,
             reorder: s.reorder,
             wall_conformation: match s.wall_conformation {
                 WallConformation::Even => crate::boundary::TensorMirror::Even,

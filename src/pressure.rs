@@ -36,15 +36,19 @@ impl PressureSystem {
         Self::default()
     }
 
-    /// Assembles matrix rows and the right-hand side `−∇·u*/δt` for the fluid particles.
-    pub fn assemble(
+    /// The right-hand side `−∇·u*/δt`.
+    pub fn assemble_rhs(&mut self, divergence: &[f64], dt: f64) {
+        self.rhs.clear();
+        self.rhs.extend(divergence.iter().map(|d| -d / dt));
+    }
+
+    /// Assembles the matrix rows for the fluid particles.
+    pub fn assemble_matrix(
         &mut self,
         list: &NeighbourList,
         sums: &KernelSums,
         ghosts: &Ghosts,
         density: f64,
-        divergence: &[f64],
-        dt: f64,
     ) {
         let n = list.rows();
         // Row slots: the neighbours plus the diagonal.
@@ -85,13 +89,16 @@ impl PressureSystem {
                 *v = *val;
             }
         }
-        self.rhs.clear();
-        self.rhs.extend(divergence.iter().map(|d| -d / dt));
     }
 
     /// Number of stored matrix entries of the last assembly.
     pub fn nnz(&self) -> usize {
         self.indices.len()
+    }
+
+    /// LU factorisations computed so far.
+    pub fn factorisations(&self) -> usize {
+        self.solver.factorisations()
     }
 
     /// Solves the assembled system; `pressure` is the warm start on entry.

@@ -16,7 +16,7 @@
 //! conformation, an Eulerian run builds its neighbour lists once.
 
 use crate::boundary::{Ghosts, Wall};
-use crate::case::{Frame, Scheme};
+use crate::case::{Frame, PpeSolver, Scheme};
 use crate::kernel::QuinticSpline;
 use crate::math::{Mat2, Sym2, Vec2};
 use crate::neighbours::{Domain, NeighbourList, NeighbourSearch};
@@ -87,6 +87,8 @@ struct Workspace {
     list: NeighbourList,
     sums: KernelSums,
     lists_valid: bool,
+    /// The PPE matrix must be reassembled (the particle configuration changed).
+    matrix_stale: bool,
     reorder: crate::ordering::Reorder,
     velocity_ext: Vec<Vec2>,
     grad_u: Vec<Mat2>,
@@ -257,6 +259,7 @@ impl Simulation {
                     .build(domain, &ws.points, n, kernel.support(), &mut ws.list);
                 ws.sums.update(&ws.list, kernel, *spacing * *spacing);
                 ws.lists_valid = true;
+                ws.matrix_stale = true;
             }
         });
 
@@ -333,15 +336,13 @@ impl Simulation {
             ws.divergence.resize(n, 0.0);
             ws.sums
                 .divergence(&ws.list, &ws.velocity_ext, &mut ws.divergence);
-            ws.ppe.assemble(
-                &ws.list,
-                &ws.sums,
-                &ws.ghosts,
-                fluid.density,
-                &ws.divergence,
-                dt,
-            );
+            if ws.matrix_stale {
+                ws.ppe
+                    .assemble_matrix(&ws.list, &ws.sums, &ws.ghosts, fluid.density);
+            }
+            ws.ppe.assemble_rhs(&ws.divergence, dt);
         });
+        let matrix_unchanged = !std::mem::replace(&mut ws.matrix_stale, false);
         let options = SolverOptions {
             relative_tolerance: scheme.ppe_tolerance,
             // Right-hand sides at round-off level (a fluid at rest) need no more than an r.m.s.
@@ -349,7 +350,11 @@ impl Simulation {
             absolute_tolerance: 1e-10 * (n as f64).sqrt() * scales.velocity / (scales.length * dt),
             max_iterations: scheme.ppe_max_iterations,
             null_space: NullSpace::Constant,
-            strategy: Strategy::IterativeWithFallback,
+            strategy: match (scheme.ppe_solver, scheme.frame) {
+                (PpeSolver::Lu, _) | (PpeSolver::Auto, Frame::Eulerian) => Strategy::Direct,
+                _ => Strategy::IterativeWithFallback,
+            },
+            matrix_unchanged,
         };
         if !scheme.ppe_warm_start {
             state.pressure.iter_mut().for_each(|p| *p = 0.0);
@@ -470,6 +475,11 @@ impl Simulation {
     /// Neighbour pairs of the last step (for memory and cost reports).
     pub fn neighbour_pairs(&self) -> usize {
         self.ws.list.pairs()
+    }
+
+    /// LU factorisations of the PPE so far (an Eulerian run factorises once).
+    pub fn ppe_factorisations(&self) -> usize {
+        self.ws.ppe.factorisations()
     }
 
     /// Stored PPE entries of the last step.

@@ -109,3 +109,27 @@ fn coarse_ucm_with_evss_is_stable() {
         peak.t
     );
 }
+
+/// Fixed particles keep one PPE matrix: the Eulerian run factorises it once and reuses the LU
+/// every step, with the same solution as warm-started BiCGStab (to solver tolerance).
+#[test]
+fn eulerian_run_factorises_the_ppe_once() {
+    let run = |solver: &str| {
+        let case = poiseuille(&[
+            "scene.resolution=15",
+            "run.end_time=0.5",
+            "scheme.frame=eulerian",
+            &format!("scheme.ppe_solver={solver}"),
+        ]);
+        run_quiet(&case, false).0
+    };
+    let (auto, iterative) = (run("auto"), run("bicgstab"));
+    assert_eq!(auto.ppe.lu_factorisations, 1);
+    assert_eq!(auto.ppe.lu_solves, auto.steps);
+    assert_eq!(iterative.ppe.lu_solves, 0);
+    let (a, b) = (
+        auto.errors.l2_final.unwrap(),
+        iterative.errors.l2_final.unwrap(),
+    );
+    assert!((a - b).abs() < 1e-8, "{a} vs {b}");
+}

@@ -76,6 +76,9 @@ pub struct SolverOptions {
     pub max_iterations: usize,
     pub null_space: NullSpace,
     pub strategy: Strategy,
+    /// The caller's promise that the matrix equals the one of the previous solve: the direct
+    /// path then reuses its factorisation (a fixed-particle run factorises once).
+    pub matrix_unchanged: bool,
 }
 
 impl Default for SolverOptions {
@@ -86,6 +89,7 @@ impl Default for SolverOptions {
             max_iterations: 2000,
             null_space: NullSpace::None,
             strategy: Strategy::IterativeWithFallback,
+            matrix_unchanged: false,
         }
     }
 }
@@ -130,6 +134,8 @@ pub enum SolveError {
 #[derive(Default)]
 pub struct Solver {
     bicgstab: BiCgStabWorkspace,
+    factorisation: Option<lu::Factorisation>,
+    factorisations: usize,
 }
 
 impl Solver {
@@ -189,7 +195,7 @@ impl Solver {
         }
         let fell_back = options.strategy == Strategy::IterativeWithFallback;
         let mut lu_x = vec![0.0; rows];
-        match lu::solve(a, b, &mut lu_x, options.null_space) {
+        match self.direct(a, b, &mut lu_x, options) {
             Ok(()) => {
                 let residual = relative_residual(a, b, &lu_x, options.null_space, b_norm);
                 if !residual.is_finite() || residual > best_residual {
@@ -209,6 +215,36 @@ impl Solver {
                 Err(SolveError::NotConverged(best_residual))
             }
             Err(e) => Err(e),
+        }
+    }
+}
+
+impl Solver {
+    /// Number of LU factorisations computed so far (reuse shows as solves without one).
+    pub fn factorisations(&self) -> usize {
+        self.factorisations
+    }
+
+    fn direct(
+        &mut self,
+        a: &CsMat<f64>,
+        b: &[f64],
+        x: &mut [f64],
+        options: &SolverOptions,
+    ) -> Result<(), SolveError> {
+        let reusable = options.matrix_unchanged
+            && self
+                .factorisation
+                .as_ref()
+                .is_some_and(|f| f.fits(b.len(), options.null_space));
+        if !reusable {
+            self.factorisation = None;
+            self.factorisation = Some(lu::Factorisation::new(a, options.null_space)?);
+            self.factorisations += 1;
+        }
+        match &self.factorisation {
+            Some(f) => f.solve(b, x),
+            None => Err(SolveError::Lu("no factorisation".into())),
         }
     }
 }

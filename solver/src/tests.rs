@@ -320,3 +320,33 @@ fn result_does_not_depend_on_thread_count() {
     assert_eq!(i1, i2);
     assert!(x1.iter().zip(&x2).all(|(a, b)| a.to_bits() == b.to_bits()));
 }
+
+/// A fixed-particle run factorises once: with `matrix_unchanged` the LU is reused for new
+/// right-hand sides, and a changed matrix (the flag off) is factorised again.
+#[test]
+fn direct_path_reuses_its_factorisation_while_the_matrix_is_unchanged() {
+    let a = convection_diffusion(20, false, 10.0);
+    let mut solver = Solver::new();
+    let mut options = SolverOptions {
+        strategy: Strategy::Direct,
+        ..Default::default()
+    };
+    for k in 0..3 {
+        let exact: Vec<f64> = smooth_field(400)
+            .iter()
+            .map(|v| v * (k + 1) as f64)
+            .collect();
+        let b = matvec(&a, &exact);
+        let mut x = vec![0.0; 400];
+        solver.solve(&a, &b, &mut x, &options).unwrap();
+        assert!(max_diff(&x, &exact) < 1e-10);
+        options.matrix_unchanged = true;
+    }
+    assert_eq!(solver.factorisations(), 1);
+    options.matrix_unchanged = false;
+    let mut x = vec![0.0; 400];
+    solver
+        .solve(&a, &matvec(&a, &smooth_field(400)), &mut x, &options)
+        .unwrap();
+    assert_eq!(solver.factorisations(), 2);
+}

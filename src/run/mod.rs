@@ -42,6 +42,10 @@ pub struct PpeSummary {
     pub mean_iterations: f64,
     pub max_iterations: usize,
     pub lu_fallbacks: u64,
+    /// Solves by each method, and LU factorisations (a fixed-particle run factorises once).
+    pub bicgstab_solves: u64,
+    pub lu_solves: u64,
+    pub lu_factorisations: usize,
     /// Largest relative residual ‖b − Ap‖/‖b‖ of any solve.
     pub max_relative_residual: f64,
     /// Solves that stopped on the absolute floor (r.m.s. divergence below 1e-10 U/L) before
@@ -207,6 +211,9 @@ pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
             mean_iterations: totals.mean_iterations(),
             max_iterations: totals.max_iterations,
             lu_fallbacks: totals.fallbacks,
+            bicgstab_solves: totals.steps - totals.lu_solves,
+            lu_solves: totals.lu_solves,
+            lu_factorisations: sim.ppe_factorisations(),
             max_relative_residual: totals.max_residual,
             absolute_floor_stops: totals.floor_stops,
             matrix_nonzeros: sim.ppe_nonzeros(),
@@ -231,6 +238,7 @@ struct PpeWindow {
     max_residual: f64,
     fallbacks: u64,
     floor_stops: u64,
+    lu_solves: u64,
 }
 
 impl PpeWindow {
@@ -240,6 +248,7 @@ impl PpeWindow {
         self.max_iterations = self.max_iterations.max(r.iterations);
         self.max_residual = self.max_residual.max(r.relative_residual);
         self.floor_stops += r.on_absolute_floor as u64;
+        self.lu_solves += (r.method == rheosph_solver::Method::SparseLu) as u64;
         self.fallbacks += r.fell_back as u64;
     }
 
