@@ -50,6 +50,8 @@ pub struct CaseFile {
 pub enum SceneKind {
     /// Periodic channel between two no-slip walls at y = 0 and y = height.
     Channel,
+    /// Taylor–Green vortex in a doubly periodic square box, no walls.
+    TaylorGreen,
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -62,8 +64,12 @@ pub struct SceneSpec {
     pub height: f64,
     /// Particles across the height, H/δr.
     pub resolution: usize,
-    /// Body force per unit mass g.
-    pub body_force: [f64; 2],
+    /// Body force per unit mass g (channel).
+    #[serde(default)]
+    pub body_force: Option<[f64; 2]>,
+    /// Initial velocity amplitude U0 (Taylor–Green).
+    #[serde(default)]
+    pub velocity: Option<f64>,
 }
 
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
@@ -129,6 +135,16 @@ pub enum ConformationName {
     Direct,
 }
 
+/// How the viscous term of the predictor is integrated.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum Viscosity {
+    /// Explicit, as in the paper: δt ≤ 0.2ρh²/η0.
+    Explicit,
+    /// Implicit (β + α_V)η0∇²u: δt set by the advective CFL and the elastic wave speed.
+    Implicit,
+}
+
 /// Which linear solver the PPE uses.
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "kebab-case")]
@@ -157,8 +173,13 @@ pub struct SchemeSpec {
     pub evss_alpha: f64,
     /// The factor 0.2 of the time-step rule (28).
     pub dt_factor: f64,
-    /// Relative residual at which BiCGStab stops.
+    /// `explicit` (the paper) or `implicit` solvent and EVSS viscosity.
+    pub viscosity: Viscosity,
+    /// Relative residual ‖b − Ap‖/‖b‖ at which BiCGStab stops.
     pub ppe_tolerance: f64,
+    /// Or the r.m.s. divergence (in units of U/H) the residual corresponds to, whichever is
+    /// reached first: ‖b − Ap‖ ≤ this · √n · (U/H)/δt.
+    pub ppe_divergence_tolerance: f64,
     /// BiCGStab iteration budget before the sparse-LU fallback.
     pub ppe_max_iterations: usize,
     /// Start BiCGStab from the previous step's pressure (true) or from zero.
@@ -179,7 +200,9 @@ impl Default for SchemeSpec {
             shifting: true,
             evss_alpha: 0.0,
             dt_factor: 0.2,
+            viscosity: Viscosity::Explicit,
             ppe_tolerance: 1e-8,
+            ppe_divergence_tolerance: 1e-10,
             ppe_max_iterations: 1000,
             ppe_warm_start: true,
             ppe_solver: PpeSolver::Auto,
@@ -217,7 +240,9 @@ pub struct Scheme {
     pub shifting: bool,
     pub evss_alpha: f64,
     pub dt_factor: f64,
+    pub viscosity: Viscosity,
     pub ppe_tolerance: f64,
+    pub ppe_divergence_tolerance: f64,
     pub ppe_max_iterations: usize,
     pub ppe_warm_start: bool,
     pub ppe_solver: PpeSolver,
@@ -225,16 +250,20 @@ pub struct Scheme {
     pub wall_conformation: crate::boundary::TensorMirror,
 }
 
-/// The channel geometry.
+/// The validated scene geometry and drive.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Channel {
+pub struct Scene {
+    pub kind: SceneKind,
     pub length: f64,
     pub height: f64,
     pub resolution: usize,
+    /// Body force per unit mass (zero for Taylor–Green).
     pub body_force: [f64; 2],
+    /// Initial velocity amplitude (Taylor–Green; 0 for a channel, which starts at rest).
+    pub velocity: f64,
 }
 
-impl Channel {
+impl Scene {
     pub fn spacing(&self) -> f64 {
         self.height / self.resolution as f64
     }
@@ -252,7 +281,7 @@ impl Channel {
 #[derive(Clone, Debug)]
 pub struct Case {
     pub name: String,
-    pub channel: Channel,
+    pub scene: Scene,
     pub fluid: Fluid,
     pub scheme: Scheme,
     pub end_time: f64,
@@ -267,26 +296,35 @@ pub struct Derived {
     pub particle_spacing: f64,
     pub smoothing_length: f64,
     pub particles: usize,
-    /// Steady centre-line velocity U = ρ g H²/(8 η0).
+    /// Velocity scale U: channel, the Oldroyd-B steady centre-line velocity ρgH²/(8η0);
+    /// Taylor–Green, the initial amplitude. Re = ρUH/η0, Wi = λU/H with H the height.
     pub velocity_scale: f64,
     pub reynolds: f64,
     pub weissenberg: f64,
     pub elasticity: f64,
     pub beta: f64,
-    /// δt limits of eq. (28) with the factor: viscous 0.2ρh²/η0, advective 0.2h/U.
+    /// δt limits with the factor 0.2: viscous 0.2ρh²/η0 (explicit viscosity only, (28)),
+    /// advective 0.2h/U, elastic 0.2h/c with c = √(η_p/(ρλ)) the shear-wave speed.
     pub dt_viscous: f64,
     pub dt_advective_at_u: f64,
+    pub dt_elastic: f64,
+    /// end_time over the smallest δt limit that applies.
     pub estimated_steps: f64,
 }
 
 impl Case {
     /// Derived numbers (see [`Derived`]).
     pub fn derived(&self) -> Derived {
-        let c = &self.channel;
+        let c = &self.scene;
         let dr = c.spacing();
         let h = H_OVER_DR * dr;
         let f = &self.fluid;
-        let u = f.density * c.body_force[0].abs() * c.height * c.height / (8.0 * f.viscosity);
+        let u = match c.kind {
+            SceneKind::Channel => {
+                f.density * c.body_force[0].abs() * c.height * c.height / (8.0 * f.viscosity)
+            }
+            SceneKind::TaylorGreen => c.velocity,
+        };
         let re = f.density * u * c.height / f.viscosity;
         let wi = f.relaxation_time * u / c.height;
         let dt_viscous = self.scheme.dt_factor * f.density * h * h / f.viscosity;
@@ -294,6 +332,16 @@ impl Case {
             self.scheme.dt_factor * h / u
         } else {
             f64::INFINITY
+        };
+        let dt_elastic = if f.model.is_viscoelastic() && f.polymer_viscosity() > 0.0 {
+            self.scheme.dt_factor * h
+                / (f.polymer_viscosity() / (f.density * f.relaxation_time)).sqrt()
+        } else {
+            f64::INFINITY
+        };
+        let limit = match self.scheme.viscosity {
+            Viscosity::Explicit => dt_viscous.min(dt_advective),
+            Viscosity::Implicit => dt_advective.min(dt_elastic),
         };
         Derived {
             particle_spacing: dr,
@@ -306,7 +354,8 @@ impl Case {
             beta: f.beta,
             dt_viscous,
             dt_advective_at_u: dt_advective,
-            estimated_steps: self.end_time / dt_viscous.min(dt_advective),
+            dt_elastic,
+            estimated_steps: self.end_time / limit,
         }
     }
 }
@@ -513,20 +562,47 @@ fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
             format!("the periodic length must hold three kernel supports ({:.0} spacings), got {columns:.0}", (3.0 * support_in_dr).ceil()),
         ));
     }
-    for (k, g) in scene.body_force.iter().enumerate() {
-        if !g.is_finite() {
-            return Err(field_err(
-                "scene.body_force",
-                format!("component {k} is not finite"),
-            ));
+    let (body_force, velocity) = match scene.kind {
+        SceneKind::Channel => {
+            if scene.velocity.is_some() {
+                return Err(field_err(
+                    "scene.velocity",
+                    "a channel starts at rest and is driven by scene.body_force",
+                ));
+            }
+            let g = scene
+                .body_force
+                .ok_or_else(|| field_err("scene.body_force", "required for a channel"))?;
+            if !(g[0].is_finite() && g[1].is_finite()) {
+                return Err(field_err("scene.body_force", "must be finite"));
+            }
+            if g[1] != 0.0 {
+                return Err(field_err(
+                    "scene.body_force",
+                    "a channel is driven along x: the y component must be 0",
+                ));
+            }
+            (g, 0.0)
         }
-    }
-    if scene.body_force[1] != 0.0 {
-        return Err(field_err(
-            "scene.body_force",
-            "a channel is driven along x: the y component must be 0",
-        ));
-    }
+        SceneKind::TaylorGreen => {
+            if scene.body_force.is_some_and(|g| g != [0.0, 0.0]) {
+                return Err(field_err(
+                    "scene.body_force",
+                    "the Taylor–Green vortex decays freely: no body force",
+                ));
+            }
+            if (length - height).abs() > 1e-12 * height {
+                return Err(field_err(
+                    "scene.length",
+                    "the Taylor–Green box is square: length = height",
+                ));
+            }
+            let u0 = scene
+                .velocity
+                .ok_or_else(|| field_err("scene.velocity", "required for taylor-green"))?;
+            ([0.0, 0.0], positive("scene.velocity", u0)?)
+        }
+    };
 
     let f = &raw.fluid;
     let density = positive("fluid.density", f.density)?;
@@ -601,11 +677,13 @@ fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
 
     Ok(Case {
         name: name.to_string(),
-        channel: Channel {
+        scene: Scene {
+            kind: scene.kind,
             length,
             height,
             resolution: scene.resolution,
-            body_force: scene.body_force,
+            body_force,
+            velocity,
         },
         fluid: Fluid {
             model,
@@ -626,7 +704,12 @@ fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
             shifting: s.shifting,
             evss_alpha,
             dt_factor,
+            viscosity: s.viscosity,
             ppe_tolerance,
+            ppe_divergence_tolerance: positive(
+                "scheme.ppe_divergence_tolerance",
+                s.ppe_divergence_tolerance,
+            )?,
             ppe_max_iterations: s.ppe_max_iterations,
             ppe_warm_start: s.ppe_warm_start,
             ppe_solver: s.ppe_solver,
@@ -673,7 +756,7 @@ mod tests {
         .unwrap();
         assert_eq!(case.fluid.beta, 0.3);
         assert_eq!(case.scheme.frame, Frame::Eulerian);
-        assert_eq!(case.channel.resolution, 15);
+        assert_eq!(case.scene.resolution, 15);
     }
 
     #[test]

@@ -29,6 +29,24 @@ pub enum Command {
     Check(CaseArgs),
     /// Overlay the final profiles of several run directories, each with its analytic curve.
     CompareProfiles(CompareArgs),
+    /// Time each stage of the step side by side for several sizes of the Poiseuille scene.
+    Bench(BenchArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct BenchArgs {
+    /// Approximate particle counts (the unit square holds resolution² particles).
+    #[arg(long, value_delimiter = ',', default_value = "1000,4000,16000,64000")]
+    pub sizes: Vec<usize>,
+    /// Whole steps timed per size.
+    #[arg(long, default_value_t = 20)]
+    pub steps: usize,
+    /// Largest system the sparse LU is timed on.
+    #[arg(long, default_value_t = 70_000)]
+    pub lu_max: usize,
+    /// Output directory for bench.csv and bench.txt.
+    #[arg(long, default_value = "runs/bench")]
+    pub out: PathBuf,
 }
 
 #[derive(Args, Debug)]
@@ -109,6 +127,10 @@ fn dispatch(cli: Cli) -> anyhow::Result<ExitCode> {
                 Outcome::Finished => ExitCode::SUCCESS,
                 Outcome::BrokeDown => ExitCode::from(EXIT_BROKE_DOWN),
             })
+        }
+        Command::Bench(args) => {
+            crate::bench::run(&args.sizes, args.steps, args.lu_max, &args.out, cli.quiet)?;
+            Ok(ExitCode::SUCCESS)
         }
         Command::CompareProfiles(args) => {
             crate::compare::compare_profiles(

@@ -15,12 +15,6 @@ pub fn blocked_sum(n: usize, f: impl Fn(usize) -> f64 + Sync) -> f64 {
     partial.iter().sum()
 }
 
-/// L2 error `sqrt(mean_i (u_i − u_exact(y_i))²)/U` of the streamwise velocity.
-pub fn l2_error(velocity: &[Vec2], exact: &[f64], scale: f64) -> f64 {
-    let sum = blocked_sum(velocity.len(), |i| (velocity[i].x - exact[i]).powi(2));
-    (sum / velocity.len() as f64).sqrt() / scale
-}
-
 /// Centre-line velocity: a least-squares quadratic u(y) through the particles within 2.5δr
 /// of the centre-line, evaluated at y = H/2. Unbiased for the parabolic profile, unlike the
 /// mean of the two nearest rows (which sit δr/2 off the centre-line).
@@ -116,11 +110,5 @@ mod tests {
             .collect();
         let u = centre_line_velocity(&pts, &vel, 0.5, dr);
         assert!((u - 1.0).abs() < 1e-12, "{u}");
-    }
-
-    #[test]
-    fn l2_error_of_a_uniform_offset() {
-        let v = vec![Vec2::new(1.1, 0.0); 10];
-        assert!((l2_error(&v, &[1.0; 10], 2.0) - 0.05).abs() < 1e-14);
     }
 }

@@ -8,6 +8,7 @@
 //! [`plot`].
 
 pub mod analytic;
+pub mod bench;
 pub mod boundary;
 pub mod case;
 pub mod cli;
@@ -15,6 +16,7 @@ pub mod compare;
 pub mod diagnostics;
 pub mod io;
 pub mod kernel;
+pub mod laplacian_matrix;
 pub mod math;
 pub mod neighbours;
 pub mod operators;
@@ -28,3 +30,4 @@ pub mod scene;
 pub mod shifting;
 pub mod step;
 pub mod timing;
+pub mod viscosity;

@@ -16,7 +16,7 @@
 //! conformation, an Eulerian run builds its neighbour lists once.
 
 use crate::boundary::{Ghosts, Wall};
-use crate::case::{Frame, PpeSolver, Scheme};
+use crate::case::{Frame, PpeSolver, Scheme, Viscosity};
 use crate::kernel::QuinticSpline;
 use crate::math::{Mat2, Sym2, Vec2};
 use crate::neighbours::{Domain, NeighbourList, NeighbourSearch};
@@ -41,6 +41,8 @@ pub struct Setup {
     pub domain: Domain,
     pub walls: Vec<Wall>,
     pub positions: Vec<Vec2>,
+    /// Initial velocity of each particle.
+    pub velocity: Vec<Vec2>,
     pub spacing: f64,
     pub fluid: Fluid,
     pub scheme: Scheme,
@@ -104,6 +106,7 @@ struct Workspace {
     pressure_ext: Vec<f64>,
     grad_p: Vec<Vec2>,
     ppe: PressureSystem,
+    viscous: crate::viscosity::ImplicitViscosity,
 }
 
 /// A running simulation.
@@ -122,6 +125,8 @@ pub struct Simulation {
 
 /// Kinetic energy per unit mass above which a run has run away: an r.m.s. speed of 100 U.
 const RUNAWAY_SPEED_FACTOR: f64 = 100.0;
+/// Relative residual of the implicit viscous solves: well below the O(δt) splitting error.
+const VISCOUS_TOLERANCE: f64 = 1e-10;
 /// Steps between Morton reorderings of a Lagrangian run: particles move a fraction of δr per
 /// step, so locality decays slowly.
 pub const REORDER_INTERVAL: u64 = 50;
@@ -150,7 +155,7 @@ impl Simulation {
                 time: 0.0,
                 steps: 0,
                 position: setup.positions,
-                velocity: vec![Vec2::zeros(); n],
+                velocity: setup.velocity,
                 pressure: vec![0.0; n],
                 conformation,
                 shift_velocity: vec![Vec2::zeros(); n],
@@ -172,7 +177,10 @@ impl Simulation {
         self.spacing * self.spacing
     }
 
-    /// The time step of eq. (28): `dt_factor · min(h/max|u|, ρh²/η0)`.
+    /// The time step. Explicit viscosity: eq. (28), `dt_factor · min(h/max|u|, ρh²/η0)`.
+    /// Implicit viscosity: `dt_factor · min(h/max(max|u|, U), h/c)` with
+    /// c = √(η_p/(ρλ)) the elastic shear-wave speed (the stress coupling stays explicit) and
+    /// U the scene's velocity scale (which bounds the first steps from rest).
     pub fn stable_dt(&self) -> f64 {
         let h = self.kernel.h();
         let max_speed = self
@@ -181,13 +189,28 @@ impl Simulation {
             .par_iter()
             .map(|u| u.norm())
             .reduce(|| 0.0, f64::max);
-        let viscous = self.fluid.density * h * h / self.fluid.viscosity;
-        let advective = if max_speed > 0.0 {
-            h / max_speed
-        } else {
-            f64::INFINITY
+        let f = &self.fluid;
+        let limit = match self.scheme.viscosity {
+            Viscosity::Explicit => {
+                let viscous = f.density * h * h / f.viscosity;
+                let advective = if max_speed > 0.0 {
+                    h / max_speed
+                } else {
+                    f64::INFINITY
+                };
+                viscous.min(advective)
+            }
+            Viscosity::Implicit => {
+                let advective = h / max_speed.max(self.scales.velocity);
+                let elastic = if f.model.is_viscoelastic() && f.polymer_viscosity() > 0.0 {
+                    h / (f.polymer_viscosity() / (f.density * f.relaxation_time)).sqrt()
+                } else {
+                    f64::INFINITY
+                };
+                advective.min(elastic)
+            }
         };
-        self.scheme.dt_factor * viscous.min(advective)
+        self.scheme.dt_factor * limit
     }
 
     /// Sorts the fluid particles along a Morton curve of their cells (see
@@ -300,21 +323,26 @@ impl Simulation {
             });
         }
 
-        // Step 4: predictor u*.
+        // Step 4: predictor u*, eq. (24): the viscous term explicit, or implicit (see
+        // `viscosity`) with the rest of (24) as its right-hand side.
+        let implicit = scheme.viscosity == Viscosity::Implicit;
+        let nu = if viscoelastic {
+            (fluid.beta + scheme.evss_alpha) * fluid.viscosity / fluid.density
+        } else {
+            fluid.viscosity / fluid.density
+        };
         timers.time(Stage::Predictor, || {
             ws.laplacian.resize(n, Vec2::zeros());
-            ws.sums
-                .laplacian_vector(&ws.list, &ws.velocity_ext, &mut ws.laplacian);
-            let nu = if viscoelastic {
-                (fluid.beta + scheme.evss_alpha) * fluid.viscosity / fluid.density
-            } else {
-                fluid.viscosity / fluid.density
-            };
+            if !implicit {
+                ws.sums
+                    .laplacian_vector(&ws.list, &ws.velocity_ext, &mut ws.laplacian);
+            }
             let inv_rho = 1.0 / fluid.density;
             let g = *body_force;
             ws.velocity_star.resize(n, Vec2::zeros());
             let (grad_u, lap, div_phi) = (&ws.grad_u, &ws.laplacian, &ws.div_phi);
             let u_ps = &state.shift_velocity;
+            let explicit_nu = if implicit { 0.0 } else { nu };
             ws.velocity_star
                 .par_iter_mut()
                 .zip(state.velocity.par_iter())
@@ -325,9 +353,26 @@ impl Simulation {
                     } else {
                         Vec2::zeros()
                     };
-                    *us = u + dt * (grad_u[i] * u_ps[i] + nu * lap[i] + stress + g);
+                    *us = u + dt * (grad_u[i] * u_ps[i] + explicit_nu * lap[i] + stress + g);
                 });
         });
+        if implicit {
+            timers
+                .time(Stage::Viscous, || {
+                    ws.viscous.solve(
+                        &ws.list,
+                        &ws.sums,
+                        &ws.ghosts,
+                        nu * dt,
+                        &state.velocity,
+                        &mut ws.velocity_star,
+                        VISCOUS_TOLERANCE,
+                    )
+                })
+                .map_err(|e| Breakdown {
+                    reason: format!("implicit viscous solve failed: {e}"),
+                })?;
+        }
 
         // Step 5: pressure Poisson equation.
         timers.time(Stage::PpeAssembly, || {
@@ -345,9 +390,13 @@ impl Simulation {
         let matrix_unchanged = !std::mem::replace(&mut ws.matrix_stale, false);
         let options = SolverOptions {
             relative_tolerance: scheme.ppe_tolerance,
-            // Right-hand sides at round-off level (a fluid at rest) need no more than an r.m.s.
-            // divergence of 1e-10 U/L.
-            absolute_tolerance: 1e-10 * (n as f64).sqrt() * scales.velocity / (scales.length * dt),
+            // The residual is (∇·u^{n+1})/δt per particle: stop at an r.m.s. divergence of
+            // ppe_divergence_tolerance·U/L (this also ends solves of round-off-level
+            // right-hand sides, e.g. a fluid at rest).
+            absolute_tolerance: scheme.ppe_divergence_tolerance
+                * (n as f64).sqrt()
+                * scales.velocity
+                / (scales.length * dt),
             max_iterations: scheme.ppe_max_iterations,
             null_space: NullSpace::Constant,
             strategy: match (scheme.ppe_solver, scheme.frame) {

@@ -16,6 +16,8 @@ pub enum Stage {
     Constitutive,
     /// Step 4: predictor u*.
     Predictor,
+    /// Step 4: the implicit viscous solve (implicit viscosity only).
+    Viscous,
     /// Step 5: PPE assembly.
     PpeAssembly,
     /// Step 5: PPE solve.
@@ -36,6 +38,7 @@ pub struct StageSeconds {
     pub kinematics: f64,
     pub constitutive: f64,
     pub predictor: f64,
+    pub viscous: f64,
     pub ppe_assembly: f64,
     pub ppe_solve: f64,
     pub projection: f64,
@@ -51,6 +54,7 @@ impl StageSeconds {
             Stage::Kinematics => &mut self.kinematics,
             Stage::Constitutive => &mut self.constitutive,
             Stage::Predictor => &mut self.predictor,
+            Stage::Viscous => &mut self.viscous,
             Stage::PpeAssembly => &mut self.ppe_assembly,
             Stage::PpeSolve => &mut self.ppe_solve,
             Stage::Projection => &mut self.projection,
@@ -77,6 +81,7 @@ impl StageSeconds {
             + self.kinematics
             + self.constitutive
             + self.predictor
+            + self.viscous
             + self.ppe_assembly
             + self.ppe_solve
             + self.projection

@@ -24,7 +24,7 @@ fn steady_wall_stress(resolution: usize, wall: &str) -> f64 {
         "fluid.relaxation_time=0.2",
         &format!("scheme.wall_conformation={wall}"),
     ]);
-    let mut sim = Simulation::new(scene::channel(&case));
+    let mut sim = Simulation::new(scene::build(&case));
     let end = 4.0;
     while sim.state.time < end {
         sim.step(end - sim.state.time).expect("stable");

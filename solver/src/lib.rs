@@ -14,7 +14,8 @@
 //!
 //! i.e. the incompatible part of `b` (its component along the left null vector) is absorbed
 //! by one uniform residual μ and the free constant is fixed by a zero mean. The direct path
-//! factorises the bordered matrix `[A s1; s1ᵀ 0]`; the iterative path applies the rank-one
+//! factorises the sparse `A + s e_k e_kᵀ` and recovers the bordered solution with two cached
+//! auxiliary solves (a deflation, see `lu.rs`); the iterative path applies the rank-one
 //! augmented operator `A + (s/n) 1 1ᵀ`, whose solution differs from the bordered one only by
 //! a constant that the zero-mean projection removes (see [`NullSpace`]).
 //!

@@ -21,6 +21,7 @@ fn analytic(points: Vec<(f64, f64)>) -> Curve {
 /// Draws every chart of the run directory.
 pub fn draw(
     dir: &Path,
+    kind: crate::case::SceneKind,
     sim: &Simulation,
     reference: Option<&Reference>,
     rows: &[SeriesRow],
@@ -51,9 +52,17 @@ pub fn draw(
     plot::draw(
         &dir.join("centre_velocity.png"),
         &Chart {
-            title: format!("Centre-line velocity ({})", sim.fluid.model.name()),
+            title: match kind {
+                crate::case::SceneKind::Channel => {
+                    format!("Centre-line velocity ({})", sim.fluid.model.name())
+                }
+                crate::case::SceneKind::TaylorGreen => "Taylor-Green amplitude".into(),
+            },
             x_label: "t".into(),
-            y_label: "u(H/2)".into(),
+            y_label: match kind {
+                crate::case::SceneKind::Channel => "u(H/2)".into(),
+                crate::case::SceneKind::TaylorGreen => "amplitude".into(),
+            },
             ..Default::default()
         },
         &curves,
@@ -76,7 +85,10 @@ pub fn draw(
             }],
         )?;
     }
-    profiles(dir, sim, reference, stresses)
+    match kind {
+        crate::case::SceneKind::Channel => profiles(dir, sim, reference, stresses),
+        crate::case::SceneKind::TaylorGreen => Ok(()),
+    }
 }
 
 /// Final profiles across the channel: every particle against the analytic line.

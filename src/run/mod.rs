@@ -9,7 +9,7 @@ pub use errors::{Errors, Peak};
 use crate::case::{Case, Derived};
 use crate::diagnostics;
 use crate::io::{self, SeriesRow};
-use crate::reference::Reference;
+use crate::reference::{self, Reference};
 use crate::scene;
 use crate::step::Simulation;
 use crate::timing::{Stage, StageSeconds};
@@ -87,7 +87,7 @@ pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
     if !options.quiet {
         report_start(case, &derived);
     }
-    let mut sim = Simulation::new(scene::channel(case));
+    let mut sim = Simulation::new(scene::build(case));
     let mut reference = Reference::for_case(case);
     if let (Err(why), false) = (&reference, options.quiet) {
         eprintln!("  no analytic reference: {why}");
@@ -101,7 +101,6 @@ pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
     let start = Instant::now();
     let mut last_flush = Instant::now();
     let mut rows: Vec<SeriesRow> = Vec::new();
-    let mut exact = Vec::new();
     let mut window = PpeWindow::default();
     let mut totals = PpeWindow::default();
     let mut next_output = 0.0;
@@ -112,7 +111,7 @@ pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
     record(
         &mut sim,
         reference.as_mut().ok(),
-        &mut exact,
+        case,
         &mut window,
         0.0,
         &mut rows,
@@ -136,7 +135,7 @@ pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
             record(
                 &mut sim,
                 reference.as_mut().ok(),
-                &mut exact,
+                case,
                 &mut window,
                 last_dt,
                 &mut rows,
@@ -158,7 +157,7 @@ pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
         record(
             &mut sim,
             reference.as_mut().ok(),
-            &mut exact,
+            case,
             &mut window,
             last_dt,
             &mut rows,
@@ -181,6 +180,7 @@ pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
     if options.charts {
         charts::draw(
             &options.out_dir,
+            case.scene.kind,
             &sim,
             reference.as_ref().ok(),
             &rows,
@@ -265,7 +265,7 @@ impl PpeWindow {
 fn record(
     sim: &mut Simulation,
     reference: Option<&mut Reference>,
-    exact: &mut Vec<f64>,
+    case: &Case,
     window: &mut PpeWindow,
     dt: f64,
     rows: &mut Vec<SeriesRow>,
@@ -280,23 +280,22 @@ fn record(
         sim.particle_volume(),
     );
     let (u_centre_exact, l2_error) = match reference {
-        Some(r) => {
-            r.velocity_at(&s.position, s.time, exact);
-            (
-                r.centre_velocity(s.time),
-                diagnostics::l2_error(&s.velocity, exact, r.velocity_scale),
-            )
-        }
+        Some(r) => (
+            r.characteristic_velocity(s.time),
+            r.l2_error(&s.position, &s.velocity, s.time),
+        ),
         None => (f64::NAN, f64::NAN),
     };
     rows.push(SeriesRow {
         t: s.time,
         dt,
         step: s.steps,
-        u_centre: diagnostics::centre_line_velocity(
+        u_centre: reference::measured_velocity(
+            case.scene.kind,
             &s.position,
             &s.velocity,
-            0.5 * height,
+            case.scene.length,
+            height,
             sim.spacing,
         ),
         u_centre_exact,
