@@ -178,7 +178,7 @@ pub struct SchemeSpec {
     /// Relative residual ‖b − Ap‖/‖b‖ at which BiCGStab stops.
     pub ppe_tolerance: f64,
     /// Or the r.m.s. divergence (in units of U/H) the residual corresponds to, whichever is
-    /// reached first: ‖b − Ap‖ ≤ this · √n · (U/H)/δt.
+    /// reached first: ‖b − Ap‖ ≤ this · √n · (U/H)/δt. Default 1e-6 (see the README).
     pub ppe_divergence_tolerance: f64,
     /// BiCGStab iteration budget before the sparse-LU fallback.
     pub ppe_max_iterations: usize,
@@ -202,7 +202,11 @@ impl Default for SchemeSpec {
             dt_factor: 0.2,
             viscosity: Viscosity::Explicit,
             ppe_tolerance: 1e-8,
-            ppe_divergence_tolerance: 1e-10,
+            // Chosen by its effect on the L2 error: from 1e-10 to 1e-6 the time-mean velocity
+            // error changes by < 1 % (relative) on Poiseuille (H/δr = 30, 11.6 → 0.27
+            // BiCGStab iterations per step) and Taylor–Green (N = 50, 40 → 16); at 1e-3 the
+            // Poiseuille error starts to grow (+0.5 %). Two decades of margin.
+            ppe_divergence_tolerance: 1e-6,
             ppe_max_iterations: 1000,
             ppe_warm_start: true,
             ppe_solver: PpeSolver::Auto,

@@ -111,7 +111,9 @@ fn coarse_ucm_with_evss_is_stable() {
 }
 
 /// Fixed particles keep one PPE matrix: the Eulerian run factorises it once and reuses the LU
-/// every step, with the same solution as warm-started BiCGStab (to solver tolerance).
+/// every step, with the same solution as warm-started BiCGStab to the BiCGStab tolerance (an
+/// r.m.s. divergence of 1e-6 U/H moves the L2 error by ~1e-6; a wrong direct solve or null
+/// space would move it by 1e-2).
 #[test]
 fn eulerian_run_factorises_the_ppe_once() {
     let run = |solver: &str| {
@@ -131,5 +133,5 @@ fn eulerian_run_factorises_the_ppe_once() {
         auto.errors.l2_final.unwrap(),
         iterative.errors.l2_final.unwrap(),
     );
-    assert!((a - b).abs() < 1e-8, "{a} vs {b}");
+    assert!((a - b).abs() < 1e-5, "{a} vs {b}");
 }

@@ -48,7 +48,7 @@ pub struct PpeSummary {
     pub lu_factorisations: usize,
     /// Largest relative residual ‖b − Ap‖/‖b‖ of any solve.
     pub max_relative_residual: f64,
-    /// Solves that stopped on the absolute floor (r.m.s. divergence below 1e-10 U/L) before
+    /// Solves that stopped on the divergence tolerance (`scheme.ppe_divergence_tolerance`) before
     /// reaching the relative tolerance; for these ‖b‖ is near round-off and the relative
     /// residual can be O(1) by design.
     pub absolute_floor_stops: u64,
