@@ -40,8 +40,8 @@ pub struct BenchRow {
     pub step_ms: f64,
     pub particle_steps_per_second: f64,
     pub ppe_iterations_per_step: f64,
-    /// Peak resident memory of the process over the particle count (includes the binary).
-    pub peak_bytes_per_particle: f64,
+    /// Heap bytes of the simulation (state and every per-step buffer) per particle.
+    pub bytes_per_particle: f64,
 }
 
 fn time_ms<T>(repeats: usize, mut f: impl FnMut() -> T) -> (f64, T) {
@@ -94,6 +94,7 @@ fn developed(sim: &mut Simulation, case: &Case) -> Result<()> {
 
 /// Per-step costs measured inside real steps.
 struct Timed {
+    heap_bytes: usize,
     step_ms: f64,
     solve_ms: f64,
     iterations: f64,
@@ -127,24 +128,11 @@ fn timed_steps(resolution: usize, steps: usize, overrides: &[&str]) -> Result<Ti
     }
     let seconds = start.elapsed().as_secs_f64();
     Ok(Timed {
+        heap_bytes: sim.heap_bytes(),
         step_ms: seconds * 1e3 / steps as f64,
         solve_ms: (sim.timers.ppe_solve - before) * 1e3 / steps as f64,
         iterations: iterations as f64 / steps as f64,
     })
-}
-
-/// Peak resident set size of this process in bytes (Linux), 0 if unknown.
-fn peak_rss() -> f64 {
-    std::fs::read_to_string("/proc/self/status")
-        .ok()
-        .and_then(|s| {
-            s.lines().find(|l| l.starts_with("VmHWM:")).and_then(|l| {
-                l.split_whitespace()
-                    .nth(1)
-                    .and_then(|v| v.parse::<f64>().ok())
-            })
-        })
-        .map_or(0.0, |kb| kb * 1024.0)
 }
 
 /// Benchmarks one size.
@@ -228,7 +216,7 @@ pub fn bench_size(target_particles: usize, steps: usize, lu_max: usize) -> Resul
         step_ms: warm.step_ms,
         particle_steps_per_second: 1e3 * n as f64 / warm.step_ms,
         ppe_iterations_per_step: warm.iterations,
-        peak_bytes_per_particle: peak_rss() / n as f64,
+        bytes_per_particle: warm.heap_bytes as f64 / n as f64,
     })
 }
 
@@ -285,7 +273,7 @@ pub fn run(
             r.step_ms,
             r.particle_steps_per_second,
             r.ppe_iterations_per_step,
-            r.peak_bytes_per_particle
+            r.bytes_per_particle
         );
         if !quiet {
             eprint!("{line}");
@@ -293,7 +281,7 @@ pub fn run(
         table.push_str(&line);
         rows.push(r);
     }
-    let mut csv = String::from("particles,resolution,neighbours_ms,kernel_sums_ms,operators_ms,ppe_assembly_ms,ppe_bicgstab_cold_ms,ppe_bicgstab_cold_iterations,ppe_bicgstab_warm_ms,ppe_bicgstab_warm_iterations,ppe_lu_ms,ppe_lu_cached_ms,step_ms,particle_steps_per_second,ppe_iterations_per_step,peak_bytes_per_particle\n");
+    let mut csv = String::from("particles,resolution,neighbours_ms,kernel_sums_ms,operators_ms,ppe_assembly_ms,ppe_bicgstab_cold_ms,ppe_bicgstab_cold_iterations,ppe_bicgstab_warm_ms,ppe_bicgstab_warm_iterations,ppe_lu_ms,ppe_lu_cached_ms,step_ms,particle_steps_per_second,ppe_iterations_per_step,bytes_per_particle\n");
     for r in &rows {
         let _ = writeln!(
             csv,
@@ -313,7 +301,7 @@ pub fn run(
             r.step_ms,
             r.particle_steps_per_second,
             r.ppe_iterations_per_step,
-            r.peak_bytes_per_particle
+            r.bytes_per_particle
         );
     }
     crate::io::write_atomic(&out.join("bench.csv"), csv.as_bytes())?;

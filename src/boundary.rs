@@ -60,6 +60,13 @@ pub struct Ghosts {
 }
 
 impl Ghosts {
+    /// Heap bytes held.
+    pub fn heap_bytes(&self) -> usize {
+        crate::vec_bytes(&self.parent)
+            + crate::vec_bytes(&self.wall)
+            + crate::vec_bytes(&self.walls)
+    }
+
     pub fn new(walls: Vec<Wall>) -> Self {
         Self {
             walls,

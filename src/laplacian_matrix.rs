@@ -42,7 +42,6 @@ impl MirrorRule {
 #[derive(Default)]
 pub struct LaplacianMatrix {
     slot_offsets: Vec<usize>,
-    slots: Vec<(u32, f64)>,
     row_len: Vec<usize>,
     indptr: Vec<usize>,
     indices: Vec<usize>,
@@ -62,44 +61,56 @@ impl LaplacianMatrix {
         c: f64,
     ) {
         let n = list.rows();
-        // Row slots: the neighbours plus the diagonal.
+        // Each row is written into a slot of the CSR arrays sized by its neighbour count plus
+        // the diagonal, sorted and merged there, then the rows are shifted down in place.
         self.slot_offsets.clear();
         self.slot_offsets
             .extend(list.offsets.iter().enumerate().map(|(i, o)| o + i));
-        self.slots.resize(self.slot_offsets[n], (0, 0.0));
+        let upper = self.slot_offsets[n];
+        self.indices.resize(upper, 0);
+        self.data.resize(upper, 0.0);
         self.row_len.resize(n, 0);
         let slot_offsets = &self.slot_offsets;
-        let slots = RowWriter::new(&mut self.slots);
+        let (indices, data) = (
+            RowWriter::new(&mut self.indices),
+            RowWriter::new(&mut self.data),
+        );
         self.row_len
             .par_iter_mut()
             .enumerate()
             .for_each(|(i, len)| {
-                // SAFETY: each task writes only its own row slot.
-                let row = unsafe { slots.row(slot_offsets, i) };
-                *len = assemble_row(i, n, list, sums, ghosts, rule.sign(), d, c, row);
+                // SAFETY: each task writes only its own row slot of both arrays.
+                let (cols, vals) =
+                    unsafe { (indices.row(slot_offsets, i), data.row(slot_offsets, i)) };
+                *len = assemble_row(i, n, list, sums, ghosts, rule.sign(), d, c, cols, vals);
             });
 
         self.indptr.clear();
         self.indptr.push(0);
         let mut total = 0;
-        for &len in &self.row_len {
+        for i in 0..n {
+            let start = self.slot_offsets[i];
+            let len = self.row_len[i];
+            // total ≤ start: moving left never overwrites a row not yet moved.
+            self.indices.copy_within(start..start + len, total);
+            self.data.copy_within(start..start + len, total);
             total += len;
             self.indptr.push(total);
         }
-        self.indices.resize(total, 0);
-        self.data.resize(total, 0.0);
-        for i in 0..n {
-            let src = &self.slots[self.slot_offsets[i]..self.slot_offsets[i] + self.row_len[i]];
-            let dst = self.indptr[i]..self.indptr[i + 1];
-            for ((col, val), (ci, vi)) in src.iter().zip(
-                self.indices[dst.clone()]
-                    .iter_mut()
-                    .zip(&mut self.data[dst]),
-            ) {
-                *ci = *col as usize;
-                *vi = *val;
-            }
-        }
+        self.indices.truncate(total);
+        self.data.truncate(total);
+    }
+
+    /// Heap bytes held by the matrix buffers and the solver workspace.
+    pub fn heap_bytes(&self) -> usize {
+        use std::mem::size_of;
+        (self.slot_offsets.capacity()
+            + self.row_len.capacity()
+            + self.indptr.capacity()
+            + self.indices.capacity())
+            * size_of::<usize>()
+            + self.data.capacity() * size_of::<f64>()
+            + self.solver.heap_bytes()
     }
 
     /// Stored entries of the last assembly.
@@ -141,7 +152,7 @@ impl LaplacianMatrix {
     }
 }
 
-/// Writes row i of `d I + c L` into `row` (diagonal first, then one entry per neighbour
+/// Writes row i of `d I + c L` into its slot (diagonal first, then one entry per neighbour
 /// column), sorts it by column, merges duplicates, and returns the number of entries kept.
 #[allow(clippy::too_many_arguments)]
 fn assemble_row(
@@ -153,7 +164,8 @@ fn assemble_row(
     sign: f64,
     d: f64,
     c: f64,
-    row: &mut [(u32, f64)],
+    cols: &mut [usize],
+    vals: &mut [f64],
 ) -> usize {
     let mut len = 1;
     let mut diagonal = d;
@@ -169,19 +181,33 @@ fn assemble_row(
         if col == i {
             diagonal += coefficient; // own mirror
         } else {
-            row[len] = (col as u32, coefficient);
+            cols[len] = col;
+            vals[len] = coefficient;
             len += 1;
         }
     }
-    row[0] = (i as u32, diagonal);
-    let entries = &mut row[..len];
-    entries.sort_unstable_by_key(|e| e.0);
+    cols[0] = i;
+    vals[0] = diagonal;
+    // Insertion sort of the (column, value) pairs: rows are short and, with particles in
+    // Morton order, nearly sorted already.
+    for a in 1..len {
+        let (col, val) = (cols[a], vals[a]);
+        let mut b = a;
+        while b > 0 && cols[b - 1] > col {
+            cols[b] = cols[b - 1];
+            vals[b] = vals[b - 1];
+            b -= 1;
+        }
+        cols[b] = col;
+        vals[b] = val;
+    }
     let mut kept = 0;
     for k in 0..len {
-        if kept > 0 && entries[kept - 1].0 == entries[k].0 {
-            entries[kept - 1].1 += entries[k].1;
+        if kept > 0 && cols[kept - 1] == cols[k] {
+            vals[kept - 1] += vals[k];
         } else {
-            entries[kept] = entries[k];
+            cols[kept] = cols[k];
+            vals[kept] = vals[k];
             kept += 1;
         }
     }

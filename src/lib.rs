@@ -31,3 +31,8 @@ pub mod shifting;
 pub mod step;
 pub mod timing;
 pub mod viscosity;
+
+/// Heap bytes reserved by a vector.
+pub fn vec_bytes<T>(v: &Vec<T>) -> usize {
+    v.capacity() * std::mem::size_of::<T>()
+}

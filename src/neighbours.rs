@@ -61,6 +61,13 @@ pub struct NeighbourList {
 }
 
 impl NeighbourList {
+    /// Heap bytes held.
+    pub fn heap_bytes(&self) -> usize {
+        crate::vec_bytes(&self.offsets)
+            + crate::vec_bytes(&self.index)
+            + crate::vec_bytes(&self.rij)
+    }
+
     pub fn rows(&self) -> usize {
         self.offsets.len().saturating_sub(1)
     }
@@ -160,6 +167,15 @@ impl Grid {
 }
 
 impl NeighbourSearch {
+    /// Heap bytes held.
+    pub fn heap_bytes(&self) -> usize {
+        crate::vec_bytes(&self.cell_start)
+            + crate::vec_bytes(&self.cell_points)
+            + crate::vec_bytes(&self.point_cell)
+            + crate::vec_bytes(&self.counts)
+            + crate::vec_bytes(&self.next)
+    }
+
     pub fn new() -> Self {
         Self::default()
     }

@@ -44,6 +44,13 @@ pub struct KernelSums {
 const MIN_MOMENT_DET: f64 = 1e-3;
 
 impl KernelSums {
+    /// Heap bytes held.
+    pub fn heap_bytes(&self) -> usize {
+        crate::vec_bytes(&self.factor)
+            + crate::vec_bytes(&self.grad_hat)
+            + crate::vec_bytes(&self.correction)
+    }
+
     /// Recomputes pair factors, L_i and ∇Ŵ_ij for the current neighbour list.
     pub fn update(&mut self, list: &NeighbourList, kernel: &QuinticSpline, dv: f64) {
         self.dv = dv;

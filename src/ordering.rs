@@ -31,6 +31,14 @@ pub struct Reorder {
 }
 
 impl Reorder {
+    /// Heap bytes held.
+    pub fn heap_bytes(&self) -> usize {
+        crate::vec_bytes(&self.keys)
+            + crate::vec_bytes(&self.vec2)
+            + crate::vec_bytes(&self.scalar)
+            + crate::vec_bytes(&self.sym)
+    }
+
     /// Computes the Morton order of `positions` over cells of width `cell`; returns false if
     /// the particles are already in that order (nothing to permute).
     pub fn compute(&mut self, domain: &Domain, positions: &[Vec2], cell: f64) -> bool {

@@ -21,6 +21,11 @@ pub struct PressureSystem {
 }
 
 impl PressureSystem {
+    /// Heap bytes held (matrix, right-hand side, solver workspace).
+    pub fn heap_bytes(&self) -> usize {
+        self.matrix.heap_bytes() + crate::vec_bytes(&self.rhs)
+    }
+
     pub fn new() -> Self {
         Self::default()
     }

@@ -521,6 +521,40 @@ impl Simulation {
             .collect()
     }
 
+    /// Heap bytes held by the particle state and every per-step buffer (LU factors, when a
+    /// direct solve is used, are faer's and not counted).
+    pub fn heap_bytes(&self) -> usize {
+        use crate::vec_bytes as b;
+        let s = &self.state;
+        let w = &self.ws;
+        b(&s.position)
+            + b(&s.velocity)
+            + b(&s.pressure)
+            + b(&s.conformation)
+            + b(&s.shift_velocity)
+            + b(&w.points)
+            + w.ghosts.heap_bytes()
+            + w.search.heap_bytes()
+            + w.list.heap_bytes()
+            + w.sums.heap_bytes()
+            + b(&w.velocity_ext)
+            + b(&w.grad_u)
+            + b(&w.grad_c)
+            + b(&w.tensor_ext)
+            + b(&w.log_conformation)
+            + b(&w.advection)
+            + b(&w.phi)
+            + b(&w.div_phi)
+            + b(&w.laplacian)
+            + b(&w.velocity_star)
+            + b(&w.divergence)
+            + b(&w.pressure_ext)
+            + b(&w.grad_p)
+            + w.ppe.heap_bytes()
+            + w.viscous.heap_bytes()
+            + w.reorder.heap_bytes()
+    }
+
     /// Neighbour pairs of the last step (for memory and cost reports).
     pub fn neighbour_pairs(&self) -> usize {
         self.ws.list.pairs()

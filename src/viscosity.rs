@@ -27,6 +27,11 @@ pub struct ImplicitViscosity {
 }
 
 impl ImplicitViscosity {
+    /// Heap bytes held.
+    pub fn heap_bytes(&self) -> usize {
+        self.matrix.heap_bytes() + crate::vec_bytes(&self.rhs) + crate::vec_bytes(&self.component)
+    }
+
     /// Solves for u* given the explicit part `rhs` (overwritten with u*): `nu_dt` = δt ν.
     /// `tolerance` is the relative residual; returns the reports of the x and y solves.
     #[allow(clippy::too_many_arguments)]

@@ -47,6 +47,24 @@ impl Operator<'_> {
 const MAX_RESTARTS: usize = 8;
 
 impl BiCgStabWorkspace {
+    pub(crate) fn heap_bytes(&self) -> usize {
+        [
+            &self.r,
+            &self.r_hat,
+            &self.p,
+            &self.v,
+            &self.s,
+            &self.t,
+            &self.y,
+            &self.z,
+            &self.inv_diag,
+            &self.partials,
+        ]
+        .iter()
+        .map(|v| v.capacity() * std::mem::size_of::<f64>())
+        .sum()
+    }
+
     fn resize(&mut self, n: usize) {
         for v in [
             &mut self.r,

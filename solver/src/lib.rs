@@ -221,6 +221,12 @@ impl Solver {
 }
 
 impl Solver {
+    /// Heap bytes of the iterative workspace (the LU factors, when present, are faer's and
+    /// not counted).
+    pub fn heap_bytes(&self) -> usize {
+        self.bicgstab.heap_bytes()
+    }
+
     /// Number of LU factorisations computed so far (reuse shows as solves without one).
     pub fn factorisations(&self) -> usize {
         self.factorisations
