@@ -135,3 +135,27 @@ fn eulerian_run_factorises_the_ppe_once() {
     );
     assert!((a - b).abs() < 1e-5, "{a} vs {b}");
 }
+
+/// Implicit viscosity reproduces the Newtonian start-up series with a time step set by the
+/// advective CFL instead of ρh²/η0: at H/δr = 15, 58 steps instead of 666 to t = 1, with a
+/// time-mean L2 error of 0.88 % (explicit: 0.82 %). The bound is the explicit error plus 50 %.
+#[test]
+fn implicit_viscosity_reproduces_newtonian_start_up() {
+    let run = |viscosity: &str| {
+        let case = poiseuille(&[
+            "fluid.model=newtonian",
+            "fluid.beta=1",
+            "fluid.relaxation_time=0",
+            "scene.resolution=15",
+            "run.end_time=1",
+            &format!("scheme.viscosity={viscosity}"),
+        ]);
+        run_quiet(&case, false).0
+    };
+    let (explicit, implicit) = (run("explicit"), run("implicit"));
+    assert_eq!(implicit.outcome, Outcome::Finished);
+    assert!(implicit.steps * 10 < explicit.steps, "{} vs {} steps", implicit.steps, explicit.steps);
+    let (e, i) = (explicit.errors.l2_time_mean.unwrap(), implicit.errors.l2_time_mean.unwrap());
+    assert!(i < 1.5 * e, "implicit L2 {i:.3e} vs explicit {e:.3e}");
+    assert!(implicit.stage_seconds.viscous > 0.0);
+}
