@@ -192,7 +192,11 @@ pub fn bench_size(target_particles: usize, steps: usize, lu_max: usize) -> Resul
     let cold = timed_steps(resolution, steps, &["scheme.ppe_warm_start=false"])?;
     let lu = if n <= lu_max {
         // A factorisation per step is expensive at large sizes: three steps suffice.
-        Some(timed_steps(resolution, steps.min(3), &["scheme.ppe_solver=lu"])?)
+        Some(timed_steps(
+            resolution,
+            steps.min(3),
+            &["scheme.ppe_solver=lu"],
+        )?)
     } else {
         None
     };

@@ -154,8 +154,16 @@ fn implicit_viscosity_reproduces_newtonian_start_up() {
     };
     let (explicit, implicit) = (run("explicit"), run("implicit"));
     assert_eq!(implicit.outcome, Outcome::Finished);
-    assert!(implicit.steps * 10 < explicit.steps, "{} vs {} steps", implicit.steps, explicit.steps);
-    let (e, i) = (explicit.errors.l2_time_mean.unwrap(), implicit.errors.l2_time_mean.unwrap());
+    assert!(
+        implicit.steps * 10 < explicit.steps,
+        "{} vs {} steps",
+        implicit.steps,
+        explicit.steps
+    );
+    let (e, i) = (
+        explicit.errors.l2_time_mean.unwrap(),
+        implicit.errors.l2_time_mean.unwrap(),
+    );
     assert!(i < 1.5 * e, "implicit L2 {i:.3e} vs explicit {e:.3e}");
     assert!(implicit.stage_seconds.viscous > 0.0);
 }

@@ -208,13 +208,14 @@ impl BiCgStabWorkspace {
     }
 
     /// ‖b − μ1 − A x‖ with μ the mean of b − A x for a constant null space (μ = 0 otherwise).
-    fn projected_residual(
+    pub(crate) fn projected_residual(
         &mut self,
         a: &CsMat<f64>,
         b: &[f64],
         x: &[f64],
         null_space: NullSpace,
     ) -> f64 {
+        self.r.resize(b.len(), 0.0);
         spmv(a, x, &mut self.r);
         for_each_mut(&mut self.r, |i, ri| *ri = b[i] - *ri);
         if null_space == NullSpace::Constant {

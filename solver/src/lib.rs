@@ -137,6 +137,7 @@ pub struct Solver {
     bicgstab: BiCgStabWorkspace,
     factorisation: Option<lu::Factorisation>,
     factorisations: usize,
+    lu_x: Vec<f64>,
 }
 
 impl Solver {
@@ -195,14 +196,22 @@ impl Solver {
             }
         }
         let fell_back = options.strategy == Strategy::IterativeWithFallback;
-        let mut lu_x = vec![0.0; rows];
-        match self.direct(a, b, &mut lu_x, options) {
+        let mut lu_x = std::mem::take(&mut self.lu_x);
+        lu_x.resize(rows, 0.0);
+        let direct = self.direct(a, b, &mut lu_x, options);
+        let residual = self
+            .bicgstab
+            .projected_residual(a, b, &lu_x, options.null_space)
+            / b_norm;
+        if direct.is_ok() && residual.is_finite() && residual <= best_residual {
+            x.copy_from_slice(&lu_x);
+        }
+        self.lu_x = lu_x;
+        match direct {
             Ok(()) => {
-                let residual = relative_residual(a, b, &lu_x, options.null_space, b_norm);
                 if !residual.is_finite() || residual > best_residual {
                     return Err(SolveError::NotConverged(best_residual));
                 }
-                x.copy_from_slice(&lu_x);
                 Ok(SolveReport {
                     method: Method::SparseLu,
                     iterations,
@@ -254,25 +263,6 @@ impl Solver {
             None => Err(SolveError::Lu("no factorisation".into())),
         }
     }
-}
-
-/// True relative residual of `x`, ‖b − μ1 − A x‖/‖b‖, where for a constant null space μ is
-/// the least-squares uniform shift (the mean of b − A x).
-pub fn relative_residual(
-    a: &CsMat<f64>,
-    b: &[f64],
-    x: &[f64],
-    null_space: NullSpace,
-    b_norm: f64,
-) -> f64 {
-    let mut ax = vec![0.0; b.len()];
-    vector::spmv(a, x, &mut ax);
-    let mut r: Vec<f64> = b.iter().zip(&ax).map(|(bi, ai)| bi - ai).collect();
-    if null_space == NullSpace::Constant {
-        let mu = r.iter().sum::<f64>() / r.len() as f64;
-        r.iter_mut().for_each(|v| *v -= mu);
-    }
-    r.iter().map(|v| v * v).sum::<f64>().sqrt() / b_norm
 }
 
 #[cfg(test)]
