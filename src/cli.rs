@@ -31,6 +31,68 @@ pub enum Command {
     CompareProfiles(CompareArgs),
     /// Time each stage of the step side by side for several sizes of the Poiseuille scene.
     Bench(BenchArgs),
+    /// Run many variants of a case: convergence, stability map, speed against accuracy.
+    #[command(subcommand)]
+    Study(StudyCommand),
+}
+
+#[derive(Subcommand, Debug)]
+pub enum StudyCommand {
+    /// L2 error against time and resolution, with the observed order.
+    Convergence(ConvergenceArgs),
+    /// Largest stable Wi of scheme variants; outcome per (variant, Wi).
+    Stability(StabilityArgs),
+    /// Wall time against L2 error with the Pareto front.
+    SpeedAccuracy(SpeedAccuracyArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct StudyCommon {
+    #[command(flatten)]
+    pub case: CaseArgs,
+    /// Output directory (default: runs/<study>-<case name>).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Runs executed concurrently (each with its share of the threads); results do not
+    /// depend on it.
+    #[arg(long, default_value_t = 1)]
+    pub jobs: usize,
+}
+
+#[derive(Args, Debug)]
+pub struct ConvergenceArgs {
+    #[command(flatten)]
+    pub common: StudyCommon,
+    #[arg(long, value_delimiter = ',', default_value = "15,30,60")]
+    pub resolutions: Vec<usize>,
+    #[arg(long, value_delimiter = ',', default_value = "lagrangian")]
+    pub frames: Vec<String>,
+}
+
+#[derive(Args, Debug)]
+pub struct StabilityArgs {
+    #[command(flatten)]
+    pub common: StudyCommon,
+    /// Weissenberg numbers (λ = Wi·H/U is set for each).
+    #[arg(long, value_delimiter = ',', required = true)]
+    pub wi: Vec<f64>,
+    /// A scheme variant dimension, `key=v1,v2` (repeatable; all combinations run).
+    #[arg(long = "vary", value_name = "KEY=V1,V2")]
+    pub vary: Vec<String>,
+    /// Largest time-mean L2 error (in U) of a run counted as accurate.
+    #[arg(long, default_value_t = 0.1)]
+    pub accuracy: f64,
+}
+
+#[derive(Args, Debug)]
+pub struct SpeedAccuracyArgs {
+    #[command(flatten)]
+    pub common: StudyCommon,
+    #[arg(long, value_delimiter = ',', default_value = "15,30,60")]
+    pub resolutions: Vec<usize>,
+    /// A configuration dimension, `key=v1,v2` (repeatable; all combinations run).
+    #[arg(long = "vary", value_name = "KEY=V1,V2")]
+    pub vary: Vec<String>,
 }
 
 #[derive(Args, Debug)]
@@ -127,6 +189,10 @@ fn dispatch(cli: Cli) -> anyhow::Result<ExitCode> {
                 Outcome::Finished => ExitCode::SUCCESS,
                 Outcome::BrokeDown => ExitCode::from(EXIT_BROKE_DOWN),
             })
+        }
+        Command::Study(study) => {
+            crate::study::cli::dispatch(study, cli.quiet)?;
+            Ok(ExitCode::SUCCESS)
         }
         Command::Bench(args) => {
             crate::bench::run(&args.sizes, args.steps, args.lu_max, &args.out, cli.quiet)?;

@@ -29,6 +29,7 @@ pub mod run;
 pub mod scene;
 pub mod shifting;
 pub mod step;
+pub mod study;
 pub mod timing;
 pub mod viscosity;
 
