@@ -104,20 +104,17 @@ impl BiCgStabWorkspace {
 
         let mut iterations = 0;
         let mut converged = false;
-        for _restart in 0..=MAX_RESTARTS {
-            // True residual r = b − A' x.
-            op.apply(x, &mut self.r, &mut self.partials);
-            for_each_mut(&mut self.r, |i, ri| *ri = b[i] - *ri);
-            if rank_one != 0.0 {
-                // A' (k1) = c n k 1, so shifting x by a constant moves the residual's mean:
-                // remove it. A zero-mean warm start (the previous pressure) would otherwise
-                // begin with the whole incompatible part μ1 of b as its residual.
-                let mean = sum(&self.r, &mut self.partials) / n as f64;
-                let shift = mean / (rank_one * n as f64);
-                for_each_mut(x, |_, v| *v += shift);
-                for_each_mut(&mut self.r, |_, ri| *ri -= mean);
+        for restart in 0..=MAX_RESTARTS {
+            self.true_residual(&op, b, x, rank_one);
+            let mut residual = norm(&self.r, &mut self.partials);
+            if restart == 0 && residual > b_norm {
+                // The guess is worse than none (e.g. the previous step's pressure when it
+                // was mostly the correction of that step's leftover divergence): start cold.
+                x.iter_mut().for_each(|v| *v = 0.0);
+                self.true_residual(&op, b, x, rank_one);
+                residual = norm(&self.r, &mut self.partials);
             }
-            if norm(&self.r, &mut self.partials) <= target {
+            if residual <= target {
                 converged = true;
                 break;
             }
@@ -134,6 +131,22 @@ impl BiCgStabWorkspace {
             converged: converged && relative_residual.is_finite(),
             iterations,
             relative_residual,
+        }
+    }
+
+    /// The true residual r = b − A'x into `self.r`. For the rank-one operator, x is first
+    /// shifted by the constant that removes the residual's mean: A'(k1) = c n k 1, and a
+    /// zero-mean warm start (the previous pressure) would otherwise begin with the whole
+    /// incompatible part μ1 of b as its residual.
+    fn true_residual(&mut self, op: &Operator, b: &[f64], x: &mut [f64], rank_one: f64) {
+        let n = b.len();
+        op.apply(x, &mut self.r, &mut self.partials);
+        for_each_mut(&mut self.r, |i, ri| *ri = b[i] - *ri);
+        if rank_one != 0.0 {
+            let mean = sum(&self.r, &mut self.partials) / n as f64;
+            let shift = mean / (rank_one * n as f64);
+            for_each_mut(x, |_, v| *v += shift);
+            for_each_mut(&mut self.r, |_, ri| *ri -= mean);
         }
     }
 
