@@ -222,6 +222,8 @@ pub struct RunSpec {
     pub end_time: f64,
     /// Time between rows of `series.csv` (default end_time/300).
     pub output_interval: Option<f64>,
+    /// Time between `.vtu` snapshots (default end_time/20).
+    pub snapshot_interval: Option<f64>,
 }
 
 // ---------------------------------------------------------------------------------------
@@ -290,6 +292,7 @@ pub struct Case {
     pub scheme: Scheme,
     pub end_time: f64,
     pub output_interval: f64,
+    pub snapshot_interval: f64,
     /// The file as given (after overrides), echoed into the run summary.
     pub source: CaseFile,
 }
@@ -314,7 +317,15 @@ pub struct Derived {
     pub dt_elastic: f64,
     /// end_time over the smallest δt limit that applies.
     pub estimated_steps: f64,
+    /// Particles × the measured heap per particle (`rheosph bench`).
+    pub estimated_memory_bytes: f64,
 }
+
+/// Heap bytes per particle measured by `rheosph bench` (3 285 at 64k particles, explicit
+/// viscosity), rounded up for the implicit solver's second matrix.
+pub const BYTES_PER_PARTICLE: f64 = 4000.0;
+/// Largest estimated heap a case may ask for.
+pub const MAX_MEMORY_BYTES: f64 = 16.0 * 1024.0 * 1024.0 * 1024.0;
 
 impl Case {
     /// Derived numbers (see [`Derived`]).
@@ -360,6 +371,7 @@ impl Case {
             dt_advective_at_u: dt_advective,
             dt_elastic,
             estimated_steps: self.end_time / limit,
+            estimated_memory_bytes: c.particles() as f64 * BYTES_PER_PARTICLE,
         }
     }
 }
@@ -566,6 +578,18 @@ fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
             format!("the periodic length must hold three kernel supports ({:.0} spacings), got {columns:.0}", (3.0 * support_in_dr).ceil()),
         ));
     }
+    let particles = columns.round() * scene.resolution as f64;
+    let memory = particles * BYTES_PER_PARTICLE;
+    if memory > MAX_MEMORY_BYTES {
+        return Err(field_err(
+            "scene.resolution",
+            format!(
+                "{particles:.3e} particles would need about {:.1} GiB (≈{BYTES_PER_PARTICLE} bytes each), above the {} GiB this build allows",
+                memory / 1024f64.powi(3),
+                MAX_MEMORY_BYTES / 1024f64.powi(3)
+            ),
+        ));
+    }
     let (body_force, velocity) = match scene.kind {
         SceneKind::Channel => {
             if scene.velocity.is_some() {
@@ -678,6 +702,10 @@ fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
         Some(dt) => positive("run.output_interval", dt)?,
         None => end_time / 300.0,
     };
+    let snapshot_interval = match raw.run.snapshot_interval {
+        Some(dt) => positive("run.snapshot_interval", dt)?,
+        None => end_time / 20.0,
+    };
 
     Ok(Case {
         name: name.to_string(),
@@ -725,6 +753,7 @@ fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
         },
         end_time,
         output_interval,
+        snapshot_interval,
         source: raw,
     })
 }

@@ -147,6 +147,9 @@ pub struct RunArgs {
     /// Skip the PNG charts.
     #[arg(long)]
     pub no_charts: bool,
+    /// Skip the .vtu snapshots.
+    #[arg(long)]
+    pub no_snapshots: bool,
 }
 
 /// Exit code for a run that broke down (a result, not a crash).
@@ -183,6 +186,7 @@ fn dispatch(cli: Cli) -> anyhow::Result<ExitCode> {
                     out_dir,
                     quiet: cli.quiet,
                     charts: !args.no_charts,
+                    snapshots: !args.no_snapshots,
                 },
             )?;
             Ok(match summary.outcome {

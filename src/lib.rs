@@ -32,6 +32,7 @@ pub mod step;
 pub mod study;
 pub mod timing;
 pub mod viscosity;
+pub mod vtk;
 
 /// Heap bytes reserved by a vector.
 pub fn vec_bytes<T>(v: &Vec<T>) -> usize {

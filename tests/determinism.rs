@@ -5,12 +5,14 @@ mod common;
 use common::poiseuille;
 use rheosph::run::{run, RunOptions};
 
-fn series_with_threads(threads: usize) -> String {
-    let case = poiseuille(&[
+fn series_with_threads(threads: usize, extra: &[&str]) -> String {
+    let mut overrides = vec![
         "scene.resolution=12",
         "run.end_time=0.3",
         "run.output_interval=0.01",
-    ]);
+    ];
+    overrides.extend_from_slice(extra);
+    let case = poiseuille(&overrides);
     let dir = tempfile::tempdir().unwrap();
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
@@ -23,6 +25,7 @@ fn series_with_threads(threads: usize) -> String {
                 out_dir: dir.path().to_path_buf(),
                 quiet: true,
                 charts: false,
+                snapshots: false,
             },
         )
         .unwrap()
@@ -30,10 +33,17 @@ fn series_with_threads(threads: usize) -> String {
     std::fs::read_to_string(dir.path().join("series.csv")).unwrap()
 }
 
+/// Lagrangian with BiCGStab, Eulerian with the cached LU, and implicit viscosity.
 #[test]
 fn series_is_identical_with_one_and_two_threads() {
-    let one = series_with_threads(1);
-    let two = series_with_threads(2);
-    assert!(one.lines().count() > 20);
-    assert_eq!(one, two);
+    for extra in [
+        &[][..],
+        &["scheme.frame=eulerian"],
+        &["scheme.viscosity=implicit"],
+    ] {
+        let one = series_with_threads(1, extra);
+        let two = series_with_threads(2, extra);
+        assert!(one.lines().count() > 20);
+        assert_eq!(one, two, "{extra:?}");
+    }
 }

@@ -27,6 +27,8 @@ pub struct RunOptions {
     pub quiet: bool,
     /// Skip the PNG charts (studies draw their own).
     pub charts: bool,
+    /// Write `.vtu` snapshots every `run.snapshot_interval`.
+    pub snapshots: bool,
 }
 
 /// How a run ended.
@@ -104,6 +106,12 @@ pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
     let mut window = PpeWindow::default();
     let mut totals = PpeWindow::default();
     let mut next_output = 0.0;
+    let mut snapshots = if options.snapshots {
+        Some(crate::vtk::Series::new(&options.out_dir)?)
+    } else {
+        None
+    };
+    let mut next_snapshot = 0.0;
     let mut breakdown = None;
     let mut last_dt = 0.0;
     let tolerance = 1e-9 * case.end_time;
@@ -117,6 +125,21 @@ pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
         &mut rows,
     );
     next_output += case.output_interval;
+    let mut snapshot_due = |sim: &mut Simulation, force: bool| -> Result<()> {
+        if let Some(series) = snapshots.as_mut() {
+            let written = series.last_time() == Some(sim.state.time);
+            if !written && (force || sim.state.time >= next_snapshot - tolerance) {
+                let t0 = Instant::now();
+                series.write(sim)?;
+                sim.timers.add(Stage::Output, t0.elapsed().as_secs_f64());
+                while next_snapshot <= sim.state.time + tolerance {
+                    next_snapshot += case.snapshot_interval;
+                }
+            }
+        }
+        Ok(())
+    };
+    snapshot_due(&mut sim, true)?;
     while sim.state.time < case.end_time - tolerance {
         let dt_max = case.end_time - sim.state.time;
         match sim.step(dt_max) {
@@ -143,6 +166,7 @@ pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
             while next_output <= sim.state.time + tolerance {
                 next_output += case.output_interval;
             }
+            snapshot_due(&mut sim, false)?;
             progress.set_position((1000.0 * sim.state.time / case.end_time) as u64);
             progress.set_message(format!("t = {:.3}", sim.state.time));
             if last_flush.elapsed() >= FLUSH_INTERVAL {
@@ -163,6 +187,7 @@ pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
             &mut rows,
         );
     }
+    snapshot_due(&mut sim, true)?;
     progress.finish_and_clear();
 
     let t0 = Instant::now();
@@ -345,8 +370,8 @@ fn report_start(case: &Case, d: &Derived) {
         case.scheme.evss_alpha
     );
     eprintln!(
-        "  {} particles, dr = {:.4e}, h = {:.4e}; U = {:.4e}; dt limits: viscous {:.3e}, advective {:.3e}; ~{:.0} steps",
-        d.particles, d.particle_spacing, d.smoothing_length, d.velocity_scale, d.dt_viscous, d.dt_advective_at_u, d.estimated_steps
+        "  {} particles (~{:.0} MB), dr = {:.4e}, h = {:.4e}; U = {:.4e}; dt limits: viscous {:.3e}, advective {:.3e}, elastic {:.3e}; ~{:.0} steps",
+        d.particles, d.estimated_memory_bytes / 1e6, d.particle_spacing, d.smoothing_length, d.velocity_scale, d.dt_viscous, d.dt_advective_at_u, d.dt_elastic, d.estimated_steps
     );
     eprintln!(
         "  frame {:?}, conformation {:?}, shifting {}, {} threads",

@@ -153,6 +153,7 @@ pub fn run_all(
                     out_dir: dir.clone(),
                     quiet: true,
                     charts: false,
+                    snapshots: false,
                 },
             )
         })?;

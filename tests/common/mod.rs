@@ -22,6 +22,7 @@ pub fn run_quiet(case: &Case, charts: bool) -> (Summary, tempfile::TempDir) {
             out_dir: PathBuf::from(dir.path()),
             quiet: true,
             charts,
+            snapshots: false,
         },
     )
     .expect("run completes");
