@@ -67,9 +67,22 @@ pub struct SceneSpec {
     /// Body force per unit mass g (channel).
     #[serde(default)]
     pub body_force: Option<[f64; 2]>,
-    /// Initial velocity amplitude U0 (Taylor–Green).
+    /// Initial velocity amplitude U0 (Taylor–Green); nominal mean velocity ⟨u⟩ defining Re
+    /// and Wi of a channel with a cylinder.
     #[serde(default)]
     pub velocity: Option<f64>,
+    /// A solid cylinder in the channel (periodic array of cylinders).
+    #[serde(default)]
+    pub cylinder: Option<CylinderSpec>,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CylinderSpec {
+    pub radius: f64,
+    /// Centre (default: the centre of the box).
+    #[serde(default)]
+    pub centre: Option<[f64; 2]>,
 }
 
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
@@ -265,11 +278,20 @@ pub struct Scene {
     pub resolution: usize,
     /// Body force per unit mass (zero for Taylor–Green).
     pub body_force: [f64; 2],
-    /// Initial velocity amplitude (Taylor–Green; 0 for a channel, which starts at rest).
+    /// Initial velocity amplitude (Taylor–Green); nominal mean velocity (channel with a
+    /// cylinder); 0 for a plain channel, whose scale follows from the body force.
     pub velocity: f64,
+    /// A solid cylinder (centre, radius), channels only.
+    pub cylinder: Option<([f64; 2], f64)>,
 }
 
 impl Scene {
+    /// The length of Re and Wi: the cylinder radius R if there is a cylinder, else the height
+    /// (King & Lind: Wi = λU/H in the channel, Wi = ⟨u⟩λ/R for the cylinder array).
+    pub fn length_scale(&self) -> f64 {
+        self.cylinder.map_or(self.height, |(_, r)| r)
+    }
+
     pub fn spacing(&self) -> f64 {
         self.height / self.resolution as f64
     }
@@ -278,8 +300,31 @@ impl Scene {
         (self.length / self.spacing()).round() as usize
     }
 
+    /// Fluid particles: the lattice less the points inside the cylinder (or within 0.1δr of
+    /// its surface, whose mirrors would nearly coincide with them).
     pub fn particles(&self) -> usize {
-        self.columns() * self.resolution
+        let lattice = self.columns() * self.resolution;
+        match self.cylinder {
+            None => lattice,
+            Some(_) => {
+                let dr = self.spacing();
+                (0..self.columns())
+                    .flat_map(|i| {
+                        (0..self.resolution)
+                            .map(move |j| ((i as f64 + 0.5) * dr, (j as f64 + 0.5) * dr))
+                    })
+                    .filter(|&(x, y)| self.is_fluid(x, y))
+                    .count()
+            }
+        }
+    }
+
+    /// Whether a lattice point at (x, y) holds a fluid particle (see [`Self::particles`]).
+    pub fn is_fluid(&self, x: f64, y: f64) -> bool {
+        match self.cylinder {
+            None => true,
+            Some((c, r)) => (x - c[0]).hypot(y - c[1]) - r >= 0.1 * self.spacing(),
+        }
     }
 }
 
@@ -304,7 +349,8 @@ pub struct Derived {
     pub smoothing_length: f64,
     pub particles: usize,
     /// Velocity scale U: channel, the Oldroyd-B steady centre-line velocity ρgH²/(8η0);
-    /// Taylor–Green, the initial amplitude. Re = ρUH/η0, Wi = λU/H with H the height.
+    /// channel with a cylinder, the nominal mean velocity `scene.velocity`; Taylor–Green,
+    /// the initial amplitude. Re = ρUL/η0, Wi = λU/L with L the height (R with a cylinder).
     pub velocity_scale: f64,
     pub reynolds: f64,
     pub weissenberg: f64,
@@ -335,13 +381,15 @@ impl Case {
         let h = H_OVER_DR * dr;
         let f = &self.fluid;
         let u = match c.kind {
+            SceneKind::Channel if c.cylinder.is_some() => c.velocity,
             SceneKind::Channel => {
                 f.density * c.body_force[0].abs() * c.height * c.height / (8.0 * f.viscosity)
             }
             SceneKind::TaylorGreen => c.velocity,
         };
-        let re = f.density * u * c.height / f.viscosity;
-        let wi = f.relaxation_time * u / c.height;
+        let length = c.length_scale();
+        let re = f.density * u * length / f.viscosity;
+        let wi = f.relaxation_time * u / length;
         let dt_viscous = self.scheme.dt_factor * f.density * h * h / f.viscosity;
         let dt_advective = if u > 0.0 {
             self.scheme.dt_factor * h / u
@@ -592,12 +640,6 @@ fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
     }
     let (body_force, velocity) = match scene.kind {
         SceneKind::Channel => {
-            if scene.velocity.is_some() {
-                return Err(field_err(
-                    "scene.velocity",
-                    "a channel starts at rest and is driven by scene.body_force",
-                ));
-            }
             let g = scene
                 .body_force
                 .ok_or_else(|| field_err("scene.body_force", "required for a channel"))?;
@@ -610,7 +652,22 @@ fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
                     "a channel is driven along x: the y component must be 0",
                 ));
             }
-            (g, 0.0)
+            match (&scene.cylinder, scene.velocity) {
+                (None, Some(_)) => {
+                    return Err(field_err(
+                        "scene.velocity",
+                        "a plain channel's velocity scale follows from scene.body_force; scene.velocity is for taylor-green or a channel with a cylinder",
+                    ));
+                }
+                (Some(_), None) => {
+                    return Err(field_err(
+                        "scene.velocity",
+                        "required with a cylinder: the nominal mean velocity that defines Re and Wi",
+                    ));
+                }
+                (Some(_), Some(u)) => (g, positive("scene.velocity", u)?),
+                (None, None) => (g, 0.0),
+            }
         }
         SceneKind::TaylorGreen => {
             if scene.body_force.is_some_and(|g| g != [0.0, 0.0]) {
@@ -628,7 +685,50 @@ fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
             let u0 = scene
                 .velocity
                 .ok_or_else(|| field_err("scene.velocity", "required for taylor-green"))?;
+            if scene.cylinder.is_some() {
+                return Err(field_err(
+                    "scene.cylinder",
+                    "cylinders are placed in channels",
+                ));
+            }
             ([0.0, 0.0], positive("scene.velocity", u0)?)
+        }
+    };
+    let cylinder = match &scene.cylinder {
+        None => None,
+        Some(cy) => {
+            let radius = positive("scene.cylinder.radius", cy.radius)?;
+            let centre = cy.centre.unwrap_or([0.5 * length, 0.5 * height]);
+            let support = support_in_dr * dr;
+            // Mirrors reach one kernel support into the cylinder and must stay on their side
+            // of its centre; the gaps to the walls must hold the support too.
+            if radius < 2.0 * support {
+                return Err(field_err(
+                    "scene.cylinder.radius",
+                    format!(
+                        "must be at least two kernel supports ({:.4}) at this resolution, got {radius}",
+                        2.0 * support
+                    ),
+                ));
+            }
+            let gap = (centre[1] - radius).min(height - centre[1] - radius);
+            if !(centre[0].is_finite() && centre[1].is_finite())
+                || gap < support
+                || centre[0] < 0.0
+                || centre[0] > length
+            {
+                return Err(field_err(
+                    "scene.cylinder.centre",
+                    format!("the cylinder must lie inside the box with at least one kernel support ({support:.4}) to each wall"),
+                ));
+            }
+            if 2.0 * radius + 2.0 * support > length {
+                return Err(field_err(
+                    "scene.cylinder.radius",
+                    "the cylinder does not fit in the periodic length",
+                ));
+            }
+            Some((centre, radius))
         }
     };
 
@@ -716,6 +816,7 @@ fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
             resolution: scene.resolution,
             body_force,
             velocity,
+            cylinder,
         },
         fluid: Fluid {
             model,

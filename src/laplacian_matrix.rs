@@ -244,7 +244,7 @@ mod tests {
             })
             .collect();
         let n = points.len();
-        let mut ghosts = Ghosts::new(vec![
+        let mut ghosts = Ghosts::walls(vec![
             Wall {
                 axis: 1,
                 position: 0.0,

@@ -14,6 +14,7 @@ pub mod case;
 pub mod cli;
 pub mod compare;
 pub mod diagnostics;
+pub mod forces;
 pub mod io;
 pub mod kernel;
 pub mod laplacian_matrix;

@@ -53,6 +53,19 @@ impl KernelSums {
 
     /// Recomputes pair factors, L_i and ∇Ŵ_ij for the current neighbour list.
     pub fn update(&mut self, list: &NeighbourList, kernel: &QuinticSpline, dv: f64) {
+        self.update_with_volumes(list, kernel, dv, &[]);
+    }
+
+    /// As [`Self::update`], with point j carrying volume `volumes[j]`·δV (mirrors across a
+    /// curved surface carry less than their parents); an empty slice means all δV. The
+    /// ratio is folded into the pair factor, so every operator sees it.
+    pub fn update_with_volumes(
+        &mut self,
+        list: &NeighbourList,
+        kernel: &QuinticSpline,
+        dv: f64,
+        volumes: &[f64],
+    ) {
         self.dv = dv;
         let n = list.rows();
         self.factor.resize(list.pairs(), 0.0);
@@ -61,7 +74,15 @@ impl KernelSums {
         self.factor
             .par_iter_mut()
             .zip(list.rij.par_iter())
-            .for_each(|(f, rij)| *f = kernel.gradient_factor(rij.norm()));
+            .zip(list.index.par_iter())
+            .for_each(|((f, rij), &j)| {
+                let volume = if volumes.is_empty() {
+                    1.0
+                } else {
+                    volumes[j as usize]
+                };
+                *f = kernel.gradient_factor(rij.norm()) * volume;
+            });
         let factor = &self.factor;
         self.correction
             .par_iter_mut()

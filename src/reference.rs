@@ -58,6 +58,9 @@ impl Reference {
         let d = case.derived();
         let c = &case.scene;
         let f = &case.fluid;
+        if c.cylinder.is_some() {
+            return Err("no analytic solution for flow past a cylinder".into());
+        }
         let solution = match (c.kind, f.model) {
             (SceneKind::Channel, Model::Newtonian | Model::OldroydB | Model::Ucm) => {
                 Solution::StartUp {

@@ -1,6 +1,6 @@
 //! Geometry builders: initial particle lattices, walls, periodic boxes and initial fields.
 
-use crate::boundary::Wall;
+use crate::boundary::{Circle, Surface, Wall};
 use crate::case::{Case, SceneKind};
 use crate::math::Vec2;
 use crate::neighbours::Domain;
@@ -29,22 +29,25 @@ pub fn taylor_green_velocity(p: &Vec2, length: f64, u0: f64) -> Vec2 {
 pub fn build(case: &Case) -> Setup {
     let c = &case.scene;
     let dr = c.spacing();
-    let positions = lattice(c.columns(), c.resolution, dr);
+    let positions: Vec<Vec2> = lattice(c.columns(), c.resolution, dr)
+        .into_iter()
+        .filter(|p| c.is_fluid(p.x, p.y))
+        .collect();
     let d = case.derived();
-    let (periodic_y, walls, velocity) = match c.kind {
+    let (periodic_y, mut walls, velocity) = match c.kind {
         SceneKind::Channel => (
             false,
             vec![
-                Wall {
+                Surface::Plane(Wall {
                     axis: 1,
                     position: 0.0,
                     fluid_side: 1.0,
-                },
-                Wall {
+                }),
+                Surface::Plane(Wall {
                     axis: 1,
                     position: c.height,
                     fluid_side: -1.0,
-                },
+                }),
             ],
             vec![Vec2::zeros(); positions.len()],
         ),
@@ -57,6 +60,12 @@ pub fn build(case: &Case) -> Setup {
                 .collect(),
         ),
     };
+    if let Some((centre, radius)) = c.cylinder {
+        walls.push(Surface::Circle(Circle {
+            centre: Vec2::new(centre[0], centre[1]),
+            radius,
+        }));
+    }
     Setup {
         domain: Domain {
             min: Vec2::zeros(),
@@ -71,7 +80,7 @@ pub fn build(case: &Case) -> Setup {
         scheme: case.scheme,
         body_force: Vec2::new(c.body_force[0], c.body_force[1]),
         scales: Scales {
-            length: c.height,
+            length: c.length_scale(),
             velocity: d.velocity_scale.max(f64::MIN_POSITIVE),
         },
     }

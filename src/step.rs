@@ -15,7 +15,7 @@
 //! δt follows (28). A stage the scene does not need costs nothing: a Newtonian fluid has no
 //! conformation, an Eulerian run builds its neighbour lists once.
 
-use crate::boundary::{Ghosts, Wall};
+use crate::boundary::{Ghosts, Surface};
 use crate::case::{Frame, PpeSolver, Scheme, Viscosity};
 use crate::kernel::QuinticSpline;
 use crate::math::{Mat2, Sym2, Vec2};
@@ -39,7 +39,8 @@ pub struct Scales {
 #[derive(Clone, Debug)]
 pub struct Setup {
     pub domain: Domain,
-    pub walls: Vec<Wall>,
+    /// No-slip surfaces (walls, cylinders) that create mirror particles.
+    pub walls: Vec<Surface>,
     pub positions: Vec<Vec2>,
     /// Initial velocity of each particle.
     pub velocity: Vec<Vec2>,
@@ -89,6 +90,8 @@ struct Workspace {
     list: NeighbourList,
     sums: KernelSums,
     lists_valid: bool,
+    /// Point volumes relative to δV (empty: all 1).
+    volumes: Vec<f64>,
     /// The PPE matrix must be reassembled (the particle configuration changed).
     matrix_stale: bool,
     reorder: crate::ordering::Reorder,
@@ -280,7 +283,13 @@ impl Simulation {
                 ws.ghosts.build(kernel.support(), &mut ws.points);
                 ws.search
                     .build(domain, &ws.points, n, kernel.support(), &mut ws.list);
-                ws.sums.update(&ws.list, kernel, *spacing * *spacing);
+                if ws.ghosts.has_volume_ratios() {
+                    ws.ghosts.point_volumes(n, &mut ws.volumes);
+                } else {
+                    ws.volumes.clear();
+                }
+                ws.sums
+                    .update_with_volumes(&ws.list, kernel, *spacing * *spacing, &ws.volumes);
                 ws.lists_valid = true;
                 ws.matrix_stale = true;
             }
@@ -495,7 +504,7 @@ impl Simulation {
         {
             return fail("conformation tensor lost positive definiteness".into());
         }
-        let walls = &self.ws.ghosts.walls;
+        let walls = &self.ws.ghosts.surfaces;
         if let Some(p) = s
             .position
             .par_iter()
