@@ -44,6 +44,20 @@ pub enum StudyCommand {
     Stability(StabilityArgs),
     /// Wall time against L2 error with the Pareto front.
     SpeedAccuracy(SpeedAccuracyArgs),
+    /// A cylinder in a channel over Wi: steady drag and centre-line profiles overlaid.
+    Cylinder(CylinderArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct CylinderArgs {
+    #[command(flatten)]
+    pub common: StudyCommon,
+    /// Weissenberg numbers Wi = ⟨u⟩λ/R (λ is set for each; 0 runs the Newtonian fluid).
+    #[arg(long, value_delimiter = ',', required = true)]
+    pub wi: Vec<f64>,
+    /// Published drag values to draw beside ours: a CSV with columns `wi,k`.
+    #[arg(long, value_name = "FILE")]
+    pub reference: Option<PathBuf>,
 }
 
 #[derive(Args, Debug)]

@@ -52,9 +52,18 @@ pub struct SeriesRow {
     pub max_speed: f64,
     pub max_trace_a: f64,
     pub min_det_a: f64,
+    /// Bulk velocity Q/H = Σ u_x V / (L H): the mean of u_x over the whole box with the
+    /// solid counted as at rest (King & Lind's ⟨u⟩ of the cylinder array).
+    pub u_mean: f64,
+    /// Drag coefficient K = F_x/(η0 ⟨u⟩) on the cylinder and its pressure, solvent and
+    /// polymer parts (NaN without a cylinder).
+    pub drag_k: f64,
+    pub k_pressure: f64,
+    pub k_solvent: f64,
+    pub k_polymer: f64,
 }
 
-pub const SERIES_HEADER: &str = "t,dt,step,u_centre,u_centre_exact,l2_error,ppe_iterations,ppe_residual,ppe_fallbacks,kinetic_energy,max_speed,max_trace_a,min_det_a";
+pub const SERIES_HEADER: &str = "t,dt,step,u_centre,u_centre_exact,l2_error,ppe_iterations,ppe_residual,ppe_fallbacks,kinetic_energy,max_speed,max_trace_a,min_det_a,u_mean,drag_k,k_pressure,k_solvent,k_polymer";
 
 /// The series as CSV text.
 pub fn series_csv(rows: &[SeriesRow]) -> String {
@@ -63,7 +72,7 @@ pub fn series_csv(rows: &[SeriesRow]) -> String {
     s.push('\n');
     for r in rows {
         s.push_str(&format!(
-            "{:.8e},{:.6e},{},{:.8e},{:.8e},{:.6e},{:.2},{:.3e},{},{:.8e},{:.6e},{:.8e},{:.8e}\n",
+            "{:.8e},{:.6e},{},{:.8e},{:.8e},{:.6e},{:.2},{:.3e},{},{:.8e},{:.6e},{:.8e},{:.8e},{:.8e},{:.6e},{:.6e},{:.6e},{:.6e}\n",
             r.t,
             r.dt,
             r.step,
@@ -76,7 +85,12 @@ pub fn series_csv(rows: &[SeriesRow]) -> String {
             r.kinetic_energy,
             r.max_speed,
             r.max_trace_a,
-            r.min_det_a
+            r.min_det_a,
+            r.u_mean,
+            r.drag_k,
+            r.k_pressure,
+            r.k_solvent,
+            r.k_polymer
         ));
     }
     s
@@ -95,7 +109,7 @@ pub fn read_series(path: &Path) -> Result<Vec<SeriesRow>> {
     lines
         .map(|line| {
             let f: Vec<&str> = line.split(',').collect();
-            anyhow::ensure!(f.len() == 13, "bad series line: {line}");
+            anyhow::ensure!(f.len() == 18, "bad series line: {line}");
             let x = |k: usize| -> Result<f64> { Ok(f[k].parse::<f64>()?) };
             Ok(SeriesRow {
                 t: x(0)?,
@@ -111,6 +125,11 @@ pub fn read_series(path: &Path) -> Result<Vec<SeriesRow>> {
                 max_speed: x(10)?,
                 max_trace_a: x(11)?,
                 min_det_a: x(12)?,
+                u_mean: x(13)?,
+                drag_k: x(14)?,
+                k_pressure: x(15)?,
+                k_solvent: x(16)?,
+                k_polymer: x(17)?,
             })
         })
         .collect()

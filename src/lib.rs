@@ -11,6 +11,8 @@ pub mod analytic;
 pub mod bench;
 pub mod boundary;
 pub mod case;
+pub mod centreline;
+pub mod checkpoint;
 pub mod cli;
 pub mod compare;
 pub mod diagnostics;

@@ -175,3 +175,146 @@ pub fn draw(path: &Path, chart: &Chart, curves: &[Curve]) -> Result<()> {
     std::fs::rename(&tmp, path).with_context(|| format!("renaming {}", tmp.display()))?;
     Ok(())
 }
+
+/// A scalar field on the particles, drawn as squares of side δr coloured by value.
+#[derive(Clone, Debug)]
+pub struct Field<'a> {
+    pub title: String,
+    /// (x, y) of each particle.
+    pub points: &'a [(f64, f64)],
+    pub values: &'a [f64],
+    /// The box [0, w] × [0, h].
+    pub extent: (f64, f64),
+    pub spacing: f64,
+    /// Diverging blue–white–red map symmetric about zero (vorticity), else a sequential map.
+    pub diverging: bool,
+    /// A solid disc drawn in grey (centre, radius).
+    pub disc: Option<((f64, f64), f64)>,
+}
+
+fn lerp_colour(stops: &[(f64, [f64; 3])], t: f64) -> RGBColor {
+    let t = t.clamp(0.0, 1.0);
+    let k = stops
+        .windows(2)
+        .position(|w| t <= w[1].0)
+        .unwrap_or(stops.len() - 2);
+    let (a, b) = (stops[k], stops[k + 1]);
+    let f = if b.0 > a.0 {
+        (t - a.0) / (b.0 - a.0)
+    } else {
+        0.0
+    };
+    let c = |i: usize| (255.0 * (a.1[i] + f * (b.1[i] - a.1[i]))).round() as u8;
+    RGBColor(c(0), c(1), c(2))
+}
+
+/// The colour of `t` ∈ [0, 1] on the map.
+pub fn colour_map(t: f64, diverging: bool) -> RGBColor {
+    if diverging {
+        lerp_colour(
+            &[
+                (0.0, [0.02, 0.19, 0.55]),
+                (0.5, [0.97, 0.97, 0.97]),
+                (1.0, [0.60, 0.03, 0.05]),
+            ],
+            t,
+        )
+    } else {
+        // Close to viridis.
+        lerp_colour(
+            &[
+                (0.0, [0.267, 0.005, 0.329]),
+                (0.25, [0.230, 0.322, 0.546]),
+                (0.5, [0.128, 0.567, 0.551]),
+                (0.75, [0.369, 0.789, 0.383]),
+                (1.0, [0.993, 0.906, 0.144]),
+            ],
+            t,
+        )
+    }
+}
+
+/// Draws a particle field with a colour bar to a PNG at `path`.
+pub fn draw_field(path: &Path, field: &Field) -> Result<()> {
+    register_fonts();
+    let finite = field.values.iter().copied().filter(|v| v.is_finite());
+    let (mut lo, mut hi) = finite.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+        (a.min(v), b.max(v))
+    });
+    if !lo.is_finite() {
+        (lo, hi) = (0.0, 1.0);
+    }
+    if field.diverging {
+        let m = lo.abs().max(hi.abs()).max(1e-300);
+        (lo, hi) = (-m, m);
+    }
+    if hi - lo < 1e-300 {
+        hi = lo + 1.0;
+    }
+    let (w, h) = field.extent;
+    let plot_w = 900u32;
+    let plot_h = ((plot_w as f64 - 110.0) * h / w + 90.0)
+        .round()
+        .clamp(200.0, 1400.0) as u32;
+    let file_name = path
+        .file_name()
+        .context("chart path has no file name")?
+        .to_string_lossy();
+    let tmp = path.with_file_name(format!(".{file_name}.tmp.png"));
+    {
+        let root = BitMapBackend::new(&tmp, (plot_w + 110, plot_h)).into_drawing_area();
+        root.fill(&WHITE)?;
+        let (left, right) = root.split_horizontally(plot_w);
+        let mut cc = ChartBuilder::on(&left)
+            .caption(&field.title, ("sans-serif", 20))
+            .margin(10)
+            .x_label_area_size(35)
+            .y_label_area_size(45)
+            .build_cartesian_2d(0.0..w, 0.0..h)?;
+        cc.configure_mesh()
+            .disable_mesh()
+            .label_style(("sans-serif", 13))
+            .draw()?;
+        let half = 0.5 * field.spacing;
+        cc.draw_series(field.points.iter().zip(field.values).map(|(&(x, y), &v)| {
+            let c = colour_map((v - lo) / (hi - lo), field.diverging);
+            Rectangle::new([(x - half, y - half), (x + half, y + half)], c.filled())
+        }))?;
+        if let Some(((cx, cy), r)) = field.disc {
+            let ring: Vec<(f64, f64)> = (0..=180)
+                .map(|k| {
+                    let a = 2.0 * std::f64::consts::PI * k as f64 / 180.0;
+                    (cx + r * a.cos(), cy + r * a.sin())
+                })
+                .collect();
+            cc.draw_series(std::iter::once(Polygon::new(
+                ring,
+                RGBColor(160, 160, 160).filled(),
+            )))?;
+        }
+        // Colour bar.
+        let bar = ChartBuilder::on(&right)
+            .margin_top(45)
+            .margin_bottom(45)
+            .margin_right(10)
+            .y_label_area_size(70)
+            .build_cartesian_2d(0.0..1.0, lo..hi);
+        let mut bar = bar?;
+        bar.configure_mesh()
+            .disable_mesh()
+            .disable_x_axis()
+            .y_label_formatter(&|v| format!("{v:.3e}"))
+            .label_style(("sans-serif", 12))
+            .draw()?;
+        let steps = 100;
+        bar.draw_series((0..steps).map(|k| {
+            let a = lo + (hi - lo) * k as f64 / steps as f64;
+            let b = lo + (hi - lo) * (k + 1) as f64 / steps as f64;
+            let c = colour_map((k as f64 + 0.5) / steps as f64, field.diverging);
+            Rectangle::new([(0.0, a), (1.0, b)], c.filled())
+        }))?;
+        root.present()?;
+    }
+    std::fs::rename(&tmp, path).with_context(|| format!("renaming {}", tmp.display()))?;
+    Ok(())
+}

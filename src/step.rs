@@ -107,6 +107,8 @@ struct Workspace {
     velocity_star: Vec<Vec2>,
     divergence: Vec<f64>,
     pressure_ext: Vec<f64>,
+    /// The pressure increment p^{n+1} − p^n of an incremental projection.
+    pressure_increment: Vec<f64>,
     grad_p: Vec<Vec2>,
     ppe: PressureSystem,
     viscous: crate::viscosity::ImplicitViscosity,
@@ -236,6 +238,16 @@ impl Simulation {
             .add(Stage::Neighbours, t0.elapsed().as_secs_f64());
     }
 
+    /// Replaces the state with a restored one and marks the caches derived from the particle
+    /// configuration (neighbour lists, kernel sums, PPE matrix and LU factors) for rebuilding.
+    /// The last step's velocity gradient is dropped, as before a first step.
+    pub(crate) fn restore_state(&mut self, state: State) {
+        self.state = state;
+        self.ws.lists_valid = false;
+        self.ws.matrix_stale = true;
+        self.ws.grad_u.clear();
+    }
+
     /// Advances one step of at most `dt_max`.
     pub fn step(&mut self, dt_max: f64) -> Result<StepReport, Breakdown> {
         let due = match self.scheme.frame {
@@ -352,6 +364,20 @@ impl Simulation {
             let (grad_u, lap, div_phi) = (&ws.grad_u, &ws.laplacian, &ws.div_phi);
             let u_ps = &state.shift_velocity;
             let explicit_nu = if implicit { 0.0 } else { nu };
+            // Incremental projection: −∇p^n/ρ in the predictor (zero otherwise).
+            ws.grad_p.resize(n, Vec2::zeros());
+            if scheme.incremental_projection {
+                ws.ghosts
+                    .extend_scalar(&state.pressure, &mut ws.pressure_ext);
+                ws.sums
+                    .gradient_scalar(&ws.list, &ws.pressure_ext, &mut ws.grad_p);
+            }
+            let old_grad_p = &ws.grad_p;
+            let pressure_factor = if scheme.incremental_projection {
+                inv_rho
+            } else {
+                0.0
+            };
             ws.velocity_star
                 .par_iter_mut()
                 .zip(state.velocity.par_iter())
@@ -362,7 +388,9 @@ impl Simulation {
                     } else {
                         Vec2::zeros()
                     };
-                    *us = u + dt * (grad_u[i] * u_ps[i] + explicit_nu * lap[i] + stress + g);
+                    *us = u + dt
+                        * (grad_u[i] * u_ps[i] + explicit_nu * lap[i] + stress + g
+                            - pressure_factor * old_grad_p[i]);
                 });
         });
         if implicit {
@@ -414,21 +442,38 @@ impl Simulation {
             },
             matrix_unchanged,
         };
-        if !scheme.ppe_warm_start {
-            state.pressure.iter_mut().for_each(|p| *p = 0.0);
-        }
+        // The unknown: p^{n+1} (warm-started from p^n), or the increment p^{n+1} − p^n
+        // (started from zero: it vanishes as the flow settles).
+        let unknown = if scheme.incremental_projection {
+            ws.pressure_increment.clear();
+            ws.pressure_increment.resize(n, 0.0);
+            &mut ws.pressure_increment
+        } else {
+            if !scheme.ppe_warm_start {
+                state.pressure.iter_mut().for_each(|p| *p = 0.0);
+            }
+            &mut state.pressure
+        };
         let ppe = timers
-            .time(Stage::PpeSolve, || {
-                ws.ppe.solve(&mut state.pressure, &options)
-            })
+            .time(Stage::PpeSolve, || ws.ppe.solve(unknown, &options))
             .map_err(|e| Breakdown {
                 reason: format!("pressure Poisson solve failed: {e}"),
             })?;
 
-        // Step 6: projection, u^{n+1} = u* − (δt/ρ)∇p^{n+1}, written over u*.
+        // Step 6: projection, u^{n+1} = u* − (δt/ρ)∇p^{n+1} (or ∇ of the increment), written
+        // over u*.
         timers.time(Stage::Projection, || {
-            ws.ghosts
-                .extend_scalar(&state.pressure, &mut ws.pressure_ext);
+            let solved = if scheme.incremental_projection {
+                state
+                    .pressure
+                    .par_iter_mut()
+                    .zip(ws.pressure_increment.par_iter())
+                    .for_each(|(p, dp)| *p += dp);
+                &ws.pressure_increment
+            } else {
+                &state.pressure
+            };
+            ws.ghosts.extend_scalar(solved, &mut ws.pressure_ext);
             ws.grad_p.resize(n, Vec2::zeros());
             ws.sums
                 .gradient_scalar(&ws.list, &ws.pressure_ext, &mut ws.grad_p);
@@ -558,6 +603,7 @@ impl Simulation {
             + b(&w.velocity_star)
             + b(&w.divergence)
             + b(&w.pressure_ext)
+            + b(&w.pressure_increment)
             + b(&w.grad_p)
             + w.ppe.heap_bytes()
             + w.viscous.heap_bytes()
@@ -657,4 +703,20 @@ fn constitutive_update(
         DivergenceForm::Negative,
         &mut ws.div_phi,
     );
+}
+
+impl Simulation {
+    /// The vorticity ω = ∂v/∂x − ∂u/∂y of the velocity at the start of the last step (the
+    /// Bonet–Lok gradient of step 2; zeros before the first step).
+    pub fn vorticity(&self) -> Vec<f64> {
+        let n = self.particles();
+        if self.ws.grad_u.len() != n {
+            return vec![0.0; n];
+        }
+        self.ws
+            .grad_u
+            .iter()
+            .map(|g| g[(1, 0)] - g[(0, 1)])
+            .collect()
+    }
 }

@@ -47,6 +47,7 @@ pub fn snapshot(sim: &Simulation) -> Result<Vec<u8>> {
                 point: vec![
                     Attribute::vectors("velocity").with_data(IOBuffer::F64(velocity)),
                     scalar("pressure", s.pressure.clone()),
+                    scalar("vorticity", sim.vorticity()),
                     scalar("tau_xx", tau.iter().map(|t| t.xx).collect()),
                     scalar("tau_xy", tau.iter().map(|t| t.xy).collect()),
                     scalar("tau_yy", tau.iter().map(|t| t.yy).collect()),

@@ -182,3 +182,101 @@ fn profiles(
     }
     Ok(())
 }
+
+/// The charts of a channel with a cylinder: ⟨u⟩ and K against time, the averaged centre-line
+/// profiles (`profile` rows: s, u/⟨u⟩, τ_xx/(η_s⟨u⟩/R), det A), and the final vorticity and
+/// tr A fields.
+pub fn cylinder(
+    dir: &Path,
+    sim: &Simulation,
+    rows: &[SeriesRow],
+    profile: &[[f64; 4]],
+    disc: ((f64, f64), f64),
+) -> Result<()> {
+    let line = |points: Vec<(f64, f64)>| Curve {
+        label: String::new(),
+        points,
+        style: CurveStyle::Line,
+        color: PALETTE[0],
+    };
+    let time_chart = |name: &str, title: &str, y: &str, f: &dyn Fn(&SeriesRow) -> f64| {
+        plot::draw(
+            &dir.join(name),
+            &Chart {
+                title: title.into(),
+                x_label: "t".into(),
+                y_label: y.into(),
+                ..Default::default()
+            },
+            &[line(rows.iter().skip(1).map(|r| (r.t, f(r))).collect())],
+        )
+    };
+    time_chart("u_mean.png", "Bulk velocity <u> = Q/H", "<u>", &|r| {
+        r.u_mean
+    })?;
+    time_chart(
+        "drag.png",
+        "Drag coefficient K = F_x/(eta0 <u>)",
+        "K",
+        &|r| r.drag_k,
+    )?;
+    for (k, name, title, y) in [
+        (
+            1,
+            "centreline_u.png",
+            "Centre-line velocity between cylinders",
+            "u/<u>",
+        ),
+        (
+            2,
+            "centreline_tau_xx.png",
+            "Centre-line polymer stress",
+            "tau_xx/(eta_s <u>/R)",
+        ),
+        (3, "centreline_det_a.png", "Centre-line det A", "det A"),
+    ] {
+        plot::draw(
+            &dir.join(name),
+            &Chart {
+                title: title.into(),
+                x_label: "s (0: downstream edge of a cylinder)".into(),
+                y_label: y.into(),
+                ..Default::default()
+            },
+            &[line(profile.iter().map(|p| (p[0], p[k])).collect())],
+        )?;
+    }
+    let points: Vec<(f64, f64)> = sim.state.position.iter().map(|p| (p.x, p.y)).collect();
+    let extent = sim.domain.size();
+    let extent = (extent.x, extent.y);
+    let t = sim.state.time;
+    plot::draw_field(
+        &dir.join("field_vorticity.png"),
+        &plot::Field {
+            title: format!("Vorticity, t = {t:.3}"),
+            points: &points,
+            values: &sim.vorticity(),
+            extent,
+            spacing: sim.spacing,
+            diverging: true,
+            disc: Some(disc),
+        },
+    )?;
+    let trace: Vec<f64> = if sim.state.conformation.is_empty() {
+        vec![2.0; points.len()]
+    } else {
+        sim.state.conformation.iter().map(|a| a.trace()).collect()
+    };
+    plot::draw_field(
+        &dir.join("field_trace_a.png"),
+        &plot::Field {
+            title: format!("tr A, t = {t:.3}"),
+            points: &points,
+            values: &trace,
+            extent,
+            spacing: sim.spacing,
+            diverging: false,
+            disc: Some(disc),
+        },
+    )
+}

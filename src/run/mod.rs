@@ -3,12 +3,17 @@
 
 mod charts;
 mod errors;
+mod steady;
 
 pub use errors::{Errors, Peak};
+pub use steady::{Averages, SteadyCriterion, SteadySummary};
 
+use crate::boundary::Circle;
 use crate::case::{Case, Derived};
+use crate::centreline::Centreline;
 use crate::diagnostics;
 use crate::io::{self, SeriesRow};
+use crate::math::Vec2;
 use crate::reference::{self, Reference};
 use crate::scene;
 use crate::step::Simulation;
@@ -74,6 +79,8 @@ pub struct Summary {
     pub errors: Errors,
     pub ppe: PpeSummary,
     pub neighbour_pairs_per_particle: f64,
+    /// Channels with a cylinder: steady state, time averages, drag and centre-line values.
+    pub steady: Option<SteadySummary>,
     pub version: &'static str,
     pub case: crate::case::CaseFile,
 }
@@ -115,11 +122,17 @@ pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
     let mut breakdown = None;
     let mut last_dt = 0.0;
     let tolerance = 1e-9 * case.end_time;
+    let body = Body::for_case(case);
+    // Shortened to the end of the averaging window once the flow is steady.
+    let mut end_time = case.end_time;
+    let mut steady_at = None;
+    let mut averages: Option<Averages> = None;
 
     record(
         &mut sim,
         reference.as_mut().ok(),
         case,
+        body.as_ref(),
         &mut window,
         0.0,
         &mut rows,
@@ -140,8 +153,8 @@ pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
         Ok(())
     };
     snapshot_due(&mut sim, true)?;
-    while sim.state.time < case.end_time - tolerance {
-        let dt_max = case.end_time - sim.state.time;
+    while sim.state.time < end_time - tolerance {
+        let dt_max = step_limit(&sim, end_time - sim.state.time, last_dt);
         match sim.step(dt_max) {
             Ok(report) => {
                 last_dt = report.dt;
@@ -153,16 +166,34 @@ pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
                 break;
             }
         }
-        if sim.state.time >= next_output - tolerance || sim.state.time >= case.end_time - tolerance
-        {
+        if sim.state.time >= next_output - tolerance || sim.state.time >= end_time - tolerance {
             record(
                 &mut sim,
                 reference.as_mut().ok(),
                 case,
+                body.as_ref(),
                 &mut window,
                 last_dt,
                 &mut rows,
             );
+            if let (Some(b), Some(criterion)) = (body.as_ref(), case.steady) {
+                match averages.as_mut() {
+                    Some(avg) => {
+                        let t0 = Instant::now();
+                        let profile = b.centreline.sample(&sim, &sim.polymer_stress());
+                        avg.add(&rows[rows.len() - 1], &profile);
+                        sim.timers
+                            .add(Stage::Diagnostics, t0.elapsed().as_secs_f64());
+                    }
+                    None => {
+                        if let Some(t) = criterion.reached(&rows) {
+                            steady_at = Some(t);
+                            averages = Some(Averages::new(t));
+                            end_time = end_time.min(t + criterion.average);
+                        }
+                    }
+                }
+            }
             while next_output <= sim.state.time + tolerance {
                 next_output += case.output_interval;
             }
@@ -182,11 +213,35 @@ pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
             &mut sim,
             reference.as_mut().ok(),
             case,
+            body.as_ref(),
             &mut window,
             last_dt,
             &mut rows,
         );
     }
+    // Without a steady state the "averages" are the final state alone.
+    let steady = body.as_ref().map(|b| {
+        let avg = match averages.take() {
+            Some(a) if a.samples > 0 => a,
+            _ => {
+                let mut a = Averages::new(sim.state.time);
+                let profile = b.centreline.sample(&sim, &sim.polymer_stress());
+                if let Some(last) = rows.last() {
+                    a.add(last, &profile);
+                }
+                a
+            }
+        };
+        (
+            avg.summary(
+                steady_at,
+                sim.fluid.solvent_viscosity(),
+                b.circle.radius,
+                &b.centreline.s,
+            ),
+            avg,
+        )
+    });
     snapshot_due(&mut sim, true)?;
     progress.finish_and_clear();
 
@@ -202,7 +257,27 @@ pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
         &options.out_dir.join("profile.csv"),
         errors::profile_csv(&sim, reference.as_mut().ok(), stresses.as_ref()).as_bytes(),
     )?;
-    if options.charts {
+    if let (Some(b), Some((summary, avg))) = (body.as_ref(), steady.as_ref()) {
+        let csv = centreline_csv(
+            &b.centreline,
+            avg,
+            summary,
+            sim.fluid.solvent_viscosity(),
+            b.circle.radius,
+        );
+        io::write_atomic(&options.out_dir.join("centreline.csv"), csv.as_bytes())?;
+        if options.charts {
+            let c = b.circle.centre;
+            charts::cylinder(
+                &options.out_dir,
+                &sim,
+                &rows,
+                &csv_points(&csv),
+                ((c.x, c.y), b.circle.radius),
+            )?;
+        }
+    }
+    if options.charts && body.is_none() {
         charts::draw(
             &options.out_dir,
             case.scene.kind,
@@ -223,7 +298,7 @@ pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
         },
         reason: breakdown,
         t_reached: sim.state.time,
-        end_time: case.end_time,
+        end_time,
         particles: sim.particles(),
         steps,
         wall_seconds,
@@ -244,6 +319,7 @@ pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
             matrix_nonzeros: sim.ppe_nonzeros(),
         },
         neighbour_pairs_per_particle: sim.neighbour_pairs() as f64 / sim.particles() as f64,
+        steady: steady.map(|(summary, _)| summary),
         version: env!("CARGO_PKG_VERSION"),
         case: case.source.clone(),
     };
@@ -291,6 +367,7 @@ fn record(
     sim: &mut Simulation,
     reference: Option<&mut Reference>,
     case: &Case,
+    body: Option<&Body>,
     window: &mut PpeWindow,
     dt: f64,
     rows: &mut Vec<SeriesRow>,
@@ -311,6 +388,21 @@ fn record(
         ),
         None => (f64::NAN, f64::NAN),
     };
+    let u_mean = bulk_velocity(sim);
+    let k = match body {
+        Some(b) => {
+            let f = crate::forces::on_cylinder(sim, &b.circle, b.samples);
+            let scale = 1.0 / (sim.fluid.viscosity * u_mean);
+            [
+                f.total().x * scale,
+                f.pressure[0] * scale,
+                f.solvent[0] * scale,
+                f.polymer[0] * scale,
+            ]
+        }
+        None => [f64::NAN; 4],
+    };
+    let s = &sim.state;
     rows.push(SeriesRow {
         t: s.time,
         dt,
@@ -332,10 +424,96 @@ fn record(
         max_speed: stats.max_speed,
         max_trace_a: stats.max_trace,
         min_det_a: stats.min_det,
+        u_mean,
+        drag_k: k[0],
+        k_pressure: k[1],
+        k_solvent: k[2],
+        k_polymer: k[3],
     });
     *window = PpeWindow::default();
     sim.timers
         .add(Stage::Diagnostics, t0.elapsed().as_secs_f64());
+}
+
+/// The largest step towards the end time: the remaining time, except that a remainder
+/// between one and two stable steps is halved, so the last step is never a sliver. (The
+/// projection pressure carries an O(1/δt) part from the divergence left by the previous
+/// step; a tiny last step would make the final pressure, and the drag, spike.)
+fn step_limit(sim: &Simulation, remaining: f64, last_dt: f64) -> f64 {
+    if last_dt > 0.0 && remaining < 3.0 * last_dt {
+        let stable = sim.stable_dt();
+        if remaining > stable && remaining < 2.0 * stable {
+            return 0.5 * remaining;
+        }
+    }
+    remaining
+}
+
+/// The bulk velocity ⟨u⟩ = Q/H = Σ u_x V/(L H) (see [`SeriesRow::u_mean`]).
+fn bulk_velocity(sim: &Simulation) -> f64 {
+    let s = &sim.state;
+    let sum = diagnostics::blocked_sum(s.velocity.len(), |i| s.velocity[i].x);
+    let extent = sim.domain.max - sim.domain.min;
+    sum * sim.particle_volume() / (extent.x * extent.y)
+}
+
+/// A solid cylinder in the scene: where forces are integrated and profiles taken.
+struct Body {
+    circle: Circle,
+    /// Surface points of the force integral: about two per particle spacing of arc.
+    samples: usize,
+    centreline: Centreline,
+}
+
+impl Body {
+    fn for_case(case: &Case) -> Option<Self> {
+        let (centre, radius) = case.scene.cylinder?;
+        let arc = 2.0 * std::f64::consts::PI * radius / case.scene.spacing();
+        Some(Self {
+            circle: Circle {
+                centre: Vec2::new(centre[0], centre[1]),
+                radius,
+            },
+            samples: ((2.0 * arc).ceil() as usize).max(64),
+            centreline: Centreline::new(centre, radius, case.scene.length, 161),
+        })
+    }
+}
+
+/// `centreline.csv`: s (0 at the cylinder's downstream edge), u/⟨u⟩, τ_xx/(η_s⟨u⟩/R), det A,
+/// time-averaged over the steady window.
+fn centreline_csv(
+    line: &Centreline,
+    avg: &Averages,
+    summary: &SteadySummary,
+    eta_s: f64,
+    radius: f64,
+) -> String {
+    let profile = avg.profile();
+    let u = summary.u_mean;
+    let tau_scale = eta_s * u / radius;
+    let mut out = String::from("s,u_over_umean,tau_xx_scaled,det_a\n");
+    for k in 0..line.s.len() {
+        out.push_str(&format!(
+            "{:.6e},{:.8e},{:.8e},{:.8e}\n",
+            line.s[k],
+            profile.u[k] / u,
+            profile.tau_xx[k] / tau_scale,
+            profile.det_a[k]
+        ));
+    }
+    out
+}
+
+/// The columns of a `centreline.csv` text as (s, [u, τ, det]) points.
+fn csv_points(csv: &str) -> Vec<[f64; 4]> {
+    csv.lines()
+        .skip(1)
+        .filter_map(|l| {
+            let v: Vec<f64> = l.split(',').filter_map(|x| x.parse().ok()).collect();
+            (v.len() == 4).then(|| [v[0], v[1], v[2], v[3]])
+        })
+        .collect()
 }
 
 fn progress_bar(quiet: bool, end_time: f64) -> ProgressBar {

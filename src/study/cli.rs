@@ -1,6 +1,6 @@
 //! Dispatch of `rheosph study ...`: arguments into a [`Base`] and the study's settings.
 
-use super::{convergence, parse_vary, speed_accuracy, stability, Base};
+use super::{convergence, cylinder, parse_vary, speed_accuracy, stability, Base};
 use crate::cli::{StudyCommand, StudyCommon};
 use anyhow::Result;
 use std::path::PathBuf;
@@ -78,6 +78,39 @@ pub fn dispatch(command: StudyCommand, quiet: bool) -> Result<()> {
                         p.wall_seconds,
                         p.l2_mean,
                         if p.pareto { "  (Pareto)" } else { "" }
+                    );
+                }
+                eprintln!("output in {}", out.display());
+            }
+        }
+        StudyCommand::Cylinder(a) => {
+            let (base, out) = base_and_out(&a.common, "cylinder")?;
+            let reference = a
+                .reference
+                .as_deref()
+                .map(cylinder::read_reference)
+                .transpose()?;
+            let rows = cylinder::run(
+                &base,
+                &a.wi,
+                reference.as_deref(),
+                &out,
+                a.common.jobs,
+                quiet,
+            )?;
+            if !quiet {
+                for r in &rows {
+                    eprintln!(
+                        "Wi = {:>6}: {} at t = {:.3} (steady at {}), <u> = {:.4}, K = {:.3}, peak tau_xx = {:.3}, min det A = {:.4}, {:.1} s",
+                        r.wi,
+                        r.outcome,
+                        r.t_reached,
+                        r.steady_at.map_or("-".into(), |t| format!("{t:.3}")),
+                        r.u_mean,
+                        r.drag_k,
+                        r.peak_tau_xx,
+                        r.min_det_a,
+                        r.wall_seconds
                     );
                 }
                 eprintln!("output in {}", out.display());

@@ -2,7 +2,8 @@
 //!
 //! * [`convergence`]: L2 error against time and against δr, with the observed order;
 //! * [`stability`]: where methods fail, over Wi and scheme variants;
-//! * [`speed_accuracy`]: wall time against L2 error, with the Pareto front.
+//! * [`speed_accuracy`]: wall time against L2 error, with the Pareto front;
+//! * [`cylinder`]: a cylinder in a channel over Wi: drag, centre-line profiles.
 //!
 //! Every `--set` of the base case applies to every run. Runs may execute concurrently
 //! (`--jobs`); a run's results do not depend on its thread count (blocked reductions, fixed
@@ -10,6 +11,7 @@
 
 pub mod cli;
 pub mod convergence;
+pub mod cylinder;
 pub mod speed_accuracy;
 pub mod stability;
 

@@ -63,7 +63,7 @@ pub fn run(
     let mut variants = Vec::new();
     for v in product(varies) {
         for &wi in wis {
-            let lambda = wi * scale.scene.height / d.velocity_scale;
+            let lambda = wi * scale.scene.length_scale() / d.velocity_scale;
             let mut w: Variant = v.clone();
             w.overrides.push(format!("fluid.relaxation_time={lambda}"));
             w.tags.push(("wi".into(), format!("{wi}")));
