@@ -19,7 +19,7 @@ pub struct Centreline {
 }
 
 /// Raw (dimensional) values at the probes.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Profile {
     /// u_x.
     pub u: Vec<f64>,

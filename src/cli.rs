@@ -153,10 +153,17 @@ pub struct CaseArgs {
 
 #[derive(Args, Debug)]
 pub struct RunArgs {
-    #[command(flatten)]
-    pub case: CaseArgs,
-    /// Output directory (default: runs/<case name>).
+    /// The case file (TOML); not with --resume.
+    #[arg(required_unless_present = "resume", conflicts_with = "resume")]
+    pub case: Option<PathBuf>,
+    /// Override any dotted key of the case file, e.g. `--set fluid.beta=0.2`.
+    #[arg(long = "set", value_name = "KEY=VALUE", conflicts_with = "resume")]
+    pub set: Vec<String>,
+    /// Continue the run in DIR from its last checkpoint (the case and options it ran with).
     #[arg(long, value_name = "DIR")]
+    pub resume: Option<PathBuf>,
+    /// Output directory (default: runs/<case name>).
+    #[arg(long, value_name = "DIR", conflicts_with = "resume")]
     pub out: Option<PathBuf>,
     /// Skip the PNG charts.
     #[arg(long)]
@@ -190,19 +197,24 @@ pub fn main(cli: Cli) -> ExitCode {
 fn dispatch(cli: Cli) -> anyhow::Result<ExitCode> {
     match cli.command {
         Command::Run(args) => {
-            let case = case::load(&args.case.case, &args.case.set)?;
-            let out_dir = args
-                .out
-                .unwrap_or_else(|| PathBuf::from("runs").join(&case.name));
-            let summary = run::run(
-                &case,
-                &RunOptions {
-                    out_dir,
-                    quiet: cli.quiet,
-                    charts: !args.no_charts,
-                    snapshots: !args.no_snapshots,
-                },
-            )?;
+            let options = |out_dir: PathBuf| RunOptions {
+                out_dir,
+                quiet: cli.quiet,
+                charts: !args.no_charts,
+                snapshots: !args.no_snapshots,
+            };
+            let summary = match (&args.resume, &args.case) {
+                (Some(dir), _) => run::resume(&options(dir.clone()))?,
+                (None, Some(path)) => {
+                    let case = case::load(path, &args.set)?;
+                    let out_dir = args
+                        .out
+                        .clone()
+                        .unwrap_or_else(|| PathBuf::from("runs").join(&case.name));
+                    run::run(&case, &options(out_dir))?
+                }
+                (None, None) => anyhow::bail!("a case file or --resume DIR is required"),
+            };
             Ok(match summary.outcome {
                 Outcome::Finished => ExitCode::SUCCESS,
                 Outcome::BrokeDown => ExitCode::from(EXIT_BROKE_DOWN),

@@ -102,6 +102,17 @@ impl Series {
         write_atomic(&parent.join("snapshots.pvd"), pvd.as_bytes())
     }
 
+    /// The (time, file) entries of the collection.
+    pub fn entries(&self) -> &[(f64, String)] {
+        &self.entries
+    }
+
+    /// Continues a collection after a restart from a checkpoint: later files are dropped
+    /// from it (they will be rewritten).
+    pub fn restore_entries(&mut self, entries: Vec<(f64, String)>) {
+        self.entries = entries;
+    }
+
     /// Time of the last snapshot written.
     pub fn last_time(&self) -> Option<f64> {
         self.entries.last().map(|e| e.0)

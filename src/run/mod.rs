@@ -90,13 +90,79 @@ const FLUSH_INTERVAL: Duration = Duration::from_secs(2);
 
 /// Runs a case to its end time or breakdown and writes the run directory.
 pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
+    run_from(case, options, None)
+}
+
+/// Continues the run in `options.out_dir` from its last checkpoint (`checkpoint.bin`, with the
+/// case as run in `case.toml`). The continued run writes what the uninterrupted one would
+/// have: the series is cut back to the checkpoint and extended bit for bit.
+pub fn resume(options: &RunOptions) -> Result<Summary> {
+    let dir = &options.out_dir;
+    let bytes = std::fs::read(dir.join(CHECKPOINT_FILE))
+        .with_context(|| format!("reading {}", dir.join(CHECKPOINT_FILE).display()))?;
+    anyhow::ensure!(bytes.len() >= 8, "{}: truncated", CHECKPOINT_FILE);
+    let json_len = u64::from_le_bytes(bytes[..8].try_into()?) as usize;
+    anyhow::ensure!(
+        bytes.len() >= 8 + json_len,
+        "{}: truncated",
+        CHECKPOINT_FILE
+    );
+    let state: LoopState = serde_json::from_slice(&bytes[8..8 + json_len])
+        .with_context(|| format!("{}: bad run state", CHECKPOINT_FILE))?;
+    let text = std::fs::read_to_string(dir.join(CASE_FILE))
+        .with_context(|| format!("reading {}", dir.join(CASE_FILE).display()))?;
+    let case = crate::case::parse(&text, CASE_FILE, &state.case_name, &[])?;
+    let mut sim = Simulation::new(scene::build(&case));
+    crate::checkpoint::restore(&mut sim, &bytes[8 + json_len..])
+        .with_context(|| format!("restoring {}", CHECKPOINT_FILE))?;
+    let t = sim.state.time;
+    let rows: Vec<SeriesRow> = io::read_series(&dir.join("series.csv"))?
+        .into_iter()
+        .filter(|r| r.step <= sim.state.steps && r.t <= t)
+        .collect();
+    run_from(&case, options, Some(Resumed { sim, state, rows }))
+}
+
+/// The checkpoint of a run directory: the run loop's state (JSON, length-prefixed) followed
+/// by [`crate::checkpoint::encode`] of the simulation, in one atomically written file.
+pub const CHECKPOINT_FILE: &str = "checkpoint.bin";
+/// The case as run (after `--set`), for `--resume`.
+pub const CASE_FILE: &str = "case.toml";
+
+/// The run loop's own state, saved with each checkpoint.
+#[derive(Clone, Debug, Serialize, serde::Deserialize)]
+struct LoopState {
+    case_name: String,
+    next_output: f64,
+    next_snapshot: f64,
+    next_checkpoint: f64,
+    end_time: f64,
+    steady_at: Option<f64>,
+    averages: Option<Averages>,
+    window: PpeWindow,
+    totals: PpeWindow,
+    last_dt: f64,
+    snapshots: Vec<(f64, String)>,
+}
+
+struct Resumed {
+    sim: Simulation,
+    state: LoopState,
+    rows: Vec<SeriesRow>,
+}
+
+fn run_from(case: &Case, options: &RunOptions, resumed: Option<Resumed>) -> Result<Summary> {
     std::fs::create_dir_all(&options.out_dir)
         .with_context(|| format!("creating {}", options.out_dir.display()))?;
     let derived = case.derived();
     if !options.quiet {
         report_start(case, &derived);
     }
-    let mut sim = Simulation::new(scene::build(case));
+    let is_resumed = resumed.is_some();
+    let (mut sim, saved, mut rows) = match resumed {
+        Some(r) => (r.sim, Some(r.state), r.rows),
+        None => (Simulation::new(scene::build(case)), None, Vec::new()),
+    };
     let mut reference = Reference::for_case(case);
     if let (Err(why), false) = (&reference, options.quiet) {
         eprintln!("  no analytic reference: {why}");
@@ -105,11 +171,17 @@ pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
     let summary_path = options.out_dir.join("summary.json");
     // A previous run's summary must not survive to describe this one.
     let _ = std::fs::remove_file(&summary_path);
+    if !is_resumed {
+        let _ = std::fs::remove_file(options.out_dir.join(CHECKPOINT_FILE));
+        io::write_atomic(
+            &options.out_dir.join(CASE_FILE),
+            toml::to_string(&case.source)?.as_bytes(),
+        )?;
+    }
 
     let progress = progress_bar(options.quiet, case.end_time);
     let start = Instant::now();
     let mut last_flush = Instant::now();
-    let mut rows: Vec<SeriesRow> = Vec::new();
     let mut window = PpeWindow::default();
     let mut totals = PpeWindow::default();
     let mut next_output = 0.0;
@@ -119,6 +191,7 @@ pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
         None
     };
     let mut next_snapshot = 0.0;
+    let mut next_checkpoint = case.checkpoint_interval;
     let mut breakdown = None;
     let mut last_dt = 0.0;
     let tolerance = 1e-9 * case.end_time;
@@ -128,31 +201,37 @@ pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
     let mut steady_at = None;
     let mut averages: Option<Averages> = None;
 
-    record(
-        &mut sim,
-        reference.as_mut().ok(),
-        case,
-        body.as_ref(),
-        &mut window,
-        0.0,
-        &mut rows,
-    );
-    next_output += case.output_interval;
-    let mut snapshot_due = |sim: &mut Simulation, force: bool| -> Result<()> {
-        if let Some(series) = snapshots.as_mut() {
-            let written = series.last_time() == Some(sim.state.time);
-            if !written && (force || sim.state.time >= next_snapshot - tolerance) {
-                let t0 = Instant::now();
-                series.write(sim)?;
-                sim.timers.add(Stage::Output, t0.elapsed().as_secs_f64());
-                while next_snapshot <= sim.state.time + tolerance {
-                    next_snapshot += case.snapshot_interval;
-                }
+    match saved {
+        Some(st) => {
+            next_output = st.next_output;
+            next_snapshot = st.next_snapshot;
+            next_checkpoint = st.next_checkpoint;
+            end_time = st.end_time;
+            steady_at = st.steady_at;
+            averages = st.averages;
+            window = st.window;
+            totals = st.totals;
+            last_dt = st.last_dt;
+            if let Some(series) = snapshots.as_mut() {
+                series.restore_entries(st.snapshots);
             }
         }
-        Ok(())
-    };
-    snapshot_due(&mut sim, true)?;
+        None => {
+            record(
+                &mut sim,
+                reference.as_mut().ok(),
+                case,
+                body.as_ref(),
+                &mut window,
+                0.0,
+                &mut rows,
+            );
+            next_output += case.output_interval;
+        }
+    }
+    if !is_resumed {
+        snapshot_due(&mut snapshots, &mut next_snapshot, case, &mut sim, true)?;
+    }
     while sim.state.time < end_time - tolerance {
         let dt_max = step_limit(&sim, end_time - sim.state.time, last_dt);
         match sim.step(dt_max) {
@@ -197,7 +276,36 @@ pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
             while next_output <= sim.state.time + tolerance {
                 next_output += case.output_interval;
             }
-            snapshot_due(&mut sim, false)?;
+            snapshot_due(&mut snapshots, &mut next_snapshot, case, &mut sim, false)?;
+            if sim.state.time >= next_checkpoint - tolerance {
+                while next_checkpoint <= sim.state.time + tolerance {
+                    next_checkpoint += case.checkpoint_interval;
+                }
+                let t0 = Instant::now();
+                io::write_atomic(&series_path, io::series_csv(&rows).as_bytes())?;
+                let state = LoopState {
+                    case_name: case.name.clone(),
+                    next_output,
+                    next_snapshot,
+                    next_checkpoint,
+                    end_time,
+                    steady_at,
+                    averages: averages.clone(),
+                    window: window.clone(),
+                    totals: totals.clone(),
+                    last_dt,
+                    snapshots: snapshots
+                        .as_ref()
+                        .map(|s| s.entries().to_vec())
+                        .unwrap_or_default(),
+                };
+                let json = serde_json::to_vec(&state)?;
+                let mut bytes = (json.len() as u64).to_le_bytes().to_vec();
+                bytes.extend_from_slice(&json);
+                bytes.extend_from_slice(&crate::checkpoint::encode(&sim));
+                io::write_atomic(&options.out_dir.join(CHECKPOINT_FILE), &bytes)?;
+                sim.timers.add(Stage::Output, t0.elapsed().as_secs_f64());
+            }
             progress.set_position((1000.0 * sim.state.time / case.end_time) as u64);
             progress.set_message(format!("t = {:.3}", sim.state.time));
             if last_flush.elapsed() >= FLUSH_INTERVAL {
@@ -242,7 +350,7 @@ pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
             avg,
         )
     });
-    snapshot_due(&mut sim, true)?;
+    snapshot_due(&mut snapshots, &mut next_snapshot, case, &mut sim, true)?;
     progress.finish_and_clear();
 
     let t0 = Instant::now();
@@ -330,8 +438,31 @@ pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
     Ok(summary)
 }
 
+/// Writes a `.vtu` snapshot when one is due (or `force`d and not yet written at this time).
+fn snapshot_due(
+    snapshots: &mut Option<crate::vtk::Series>,
+    next_snapshot: &mut f64,
+    case: &Case,
+    sim: &mut Simulation,
+    force: bool,
+) -> Result<()> {
+    let tolerance = 1e-9 * case.end_time;
+    if let Some(series) = snapshots.as_mut() {
+        let written = series.last_time() == Some(sim.state.time);
+        if !written && (force || sim.state.time >= *next_snapshot - tolerance) {
+            let t0 = Instant::now();
+            series.write(sim)?;
+            sim.timers.add(Stage::Output, t0.elapsed().as_secs_f64());
+            while *next_snapshot <= sim.state.time + tolerance {
+                *next_snapshot += case.snapshot_interval;
+            }
+        }
+    }
+    Ok(())
+}
+
 /// PPE statistics over a window of steps.
-#[derive(Default)]
+#[derive(Clone, Debug, Default, Serialize, serde::Deserialize)]
 struct PpeWindow {
     steps: u64,
     iterations: u64,

@@ -5,7 +5,7 @@
 
 use crate::centreline::Profile;
 use crate::io::SeriesRow;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// The criterion of `run.steady`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -42,7 +42,7 @@ impl SteadyCriterion {
 }
 
 /// Time averages of the series and the centre-line profile.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct Averages {
     pub from: f64,
     pub to: f64,
@@ -59,8 +59,9 @@ impl Averages {
         Self {
             from,
             to: from,
-            min_det_a: f64::INFINITY,
-            max_trace_a: f64::NEG_INFINITY,
+            // Finite sentinels: the averages are saved in checkpoints as JSON.
+            min_det_a: f64::MAX,
+            max_trace_a: f64::MIN,
             ..Default::default()
         }
     }
