@@ -380,7 +380,7 @@ fn run_from(case: &Case, options: &RunOptions, resumed: Option<Resumed>) -> Resu
                 &options.out_dir,
                 &sim,
                 &rows,
-                &csv_points(&csv),
+                &crate::centreline::parse_csv(&csv),
                 ((c.x, c.y), b.circle.radius),
             )?;
         }
@@ -634,17 +634,6 @@ fn centreline_csv(
         ));
     }
     out
-}
-
-/// The columns of a `centreline.csv` text as (s, [u, τ, det]) points.
-fn csv_points(csv: &str) -> Vec<[f64; 4]> {
-    csv.lines()
-        .skip(1)
-        .filter_map(|l| {
-            let v: Vec<f64> = l.split(',').filter_map(|x| x.parse().ok()).collect();
-            (v.len() == 4).then(|| [v[0], v[1], v[2], v[3]])
-        })
-        .collect()
 }
 
 fn progress_bar(quiet: bool, end_time: f64) -> ProgressBar {

@@ -114,14 +114,7 @@ pub fn run(
             wall_seconds: s.wall_seconds,
         });
         let text = std::fs::read_to_string(f.dir.join("centreline.csv")).unwrap_or_default();
-        let points: Vec<[f64; 4]> = text
-            .lines()
-            .skip(1)
-            .filter_map(|l| {
-                let v: Vec<f64> = l.split(',').filter_map(|x| x.parse().ok()).collect();
-                (v.len() == 4).then(|| [v[0], v[1], v[2], v[3]])
-            })
-            .collect();
+        let points = crate::centreline::parse_csv(&text);
         profiles.push((wi, points));
     }
     crate::io::write_atomic(&out.join("cylinder.csv"), csv(&rows).as_bytes())?;
