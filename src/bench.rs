@@ -189,7 +189,7 @@ pub fn bench_size(target_particles: usize, steps: usize, lu_max: usize) -> Resul
 
     let mut ppe = PressureSystem::new();
     let (ppe_assembly_ms, _) = time_ms(repeats, || {
-        ppe.assemble_matrix(&list, &sums, &ghosts, case.fluid.density)
+        ppe.assemble_matrix(&list, &sums, &ghosts, case.fluid.density, &[])
     });
 
     // The PPE solvers inside real steps of the same developed state.

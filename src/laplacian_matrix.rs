@@ -50,7 +50,10 @@ pub struct LaplacianMatrix {
 }
 
 impl LaplacianMatrix {
-    /// Assembles `d I + c L` with mirrors folded by `rule`.
+    /// Assembles `d I + c L` with mirrors folded by `rule`; rows flagged in `identity_rows`
+    /// (empty: none) are replaced by identity rows, the Dirichlet rows of free-surface
+    /// particles.
+    #[allow(clippy::too_many_arguments)]
     pub fn assemble(
         &mut self,
         list: &NeighbourList,
@@ -59,6 +62,7 @@ impl LaplacianMatrix {
         rule: MirrorRule,
         d: f64,
         c: f64,
+        identity_rows: &[bool],
     ) {
         let n = list.rows();
         // Each row is written into a slot of the CSR arrays sized by its neighbour count plus
@@ -82,7 +86,13 @@ impl LaplacianMatrix {
                 // SAFETY: each task writes only its own row slot of both arrays.
                 let (cols, vals) =
                     unsafe { (indices.row(slot_offsets, i), data.row(slot_offsets, i)) };
-                *len = assemble_row(i, n, list, sums, ghosts, rule.sign(), d, c, cols, vals);
+                *len = if identity_rows.get(i).copied().unwrap_or(false) {
+                    cols[0] = i;
+                    vals[0] = 1.0;
+                    1
+                } else {
+                    assemble_row(i, n, list, sums, ghosts, rule.sign(), d, c, cols, vals)
+                };
             });
 
         self.indptr.clear();
@@ -264,7 +274,7 @@ mod tests {
         let field: Vec<f64> = (0..n).map(|k| (k as f64 * 0.37).sin()).collect();
         for (rule, d, c) in [(MirrorRule::Even, 0.0, -1.0), (MirrorRule::Odd, 1.0, -0.01)] {
             let mut m = LaplacianMatrix::default();
-            m.assemble(&list, &sums, &ghosts, rule, d, c);
+            m.assemble(&list, &sums, &ghosts, rule, d, c, &[]);
             let a = CsMat::new((n, n), m.indptr.clone(), m.indices.clone(), m.data.clone());
             let mut ax = vec![0.0; n];
             rheosph_solver::vector::spmv(&a, &field, &mut ax);

@@ -33,6 +33,7 @@ pub mod scene;
 pub mod shifting;
 pub mod step;
 pub mod study;
+pub mod surface;
 pub mod timing;
 pub mod viscosity;
 pub mod vtk;

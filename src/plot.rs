@@ -183,8 +183,8 @@ pub struct Field<'a> {
     /// (x, y) of each particle.
     pub points: &'a [(f64, f64)],
     pub values: &'a [f64],
-    /// The box [0, w] × [0, h].
-    pub extent: (f64, f64),
+    /// The box [x0, x1] × [y0, y1].
+    pub extent: ((f64, f64), (f64, f64)),
     pub spacing: f64,
     /// Diverging blue–white–red map symmetric about zero (vorticity), else a sequential map.
     pub diverging: bool,
@@ -251,7 +251,8 @@ pub fn draw_field(path: &Path, field: &Field) -> Result<()> {
     if hi - lo < 1e-300 {
         hi = lo + 1.0;
     }
-    let (w, h) = field.extent;
+    let ((x0, x1), (y0, y1)) = field.extent;
+    let (w, h) = (x1 - x0, y1 - y0);
     let plot_w = 900u32;
     let plot_h = ((plot_w as f64 - 110.0) * h / w + 90.0)
         .round()
@@ -270,7 +271,7 @@ pub fn draw_field(path: &Path, field: &Field) -> Result<()> {
             .margin(10)
             .x_label_area_size(35)
             .y_label_area_size(45)
-            .build_cartesian_2d(0.0..w, 0.0..h)?;
+            .build_cartesian_2d(x0..x1, y0..y1)?;
         cc.configure_mesh()
             .disable_mesh()
             .label_style(("sans-serif", 13))

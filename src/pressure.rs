@@ -6,6 +6,10 @@
 //! is its parent's (homogeneous Neumann), so its coefficient joins the parent's column; a
 //! particle's own mirror cancels out. Rows sum to zero: on a closed domain the matrix is
 //! singular with the constant null space, which the solver removes (zero-mean pressure).
+//!
+//! With a free surface, the rows of FS particles become `p_i = p_D,i`, the inhomogeneous
+//! Dirichlet condition of the normal-stress balance (35a) (or p = 0); the matrix is then
+//! non-singular and non-symmetric (BiCGStab does not need symmetry).
 
 use crate::boundary::Ghosts;
 use crate::laplacian_matrix::{LaplacianMatrix, MirrorRule};
@@ -30,22 +34,41 @@ impl PressureSystem {
         Self::default()
     }
 
-    /// The right-hand side `−∇·u*/δt`.
-    pub fn assemble_rhs(&mut self, divergence: &[f64], dt: f64) {
+    /// The right-hand side `−∇·u*/δt`, with `dirichlet[i]` in the rows flagged in
+    /// `surface` (both empty without a free surface).
+    pub fn assemble_rhs(
+        &mut self,
+        divergence: &[f64],
+        dt: f64,
+        surface: &[bool],
+        dirichlet: &[f64],
+    ) {
         self.rhs.clear();
         self.rhs.extend(divergence.iter().map(|d| -d / dt));
+        for (i, _) in surface.iter().enumerate().filter(|(_, &s)| s) {
+            self.rhs[i] = dirichlet[i];
+        }
     }
 
-    /// Assembles the matrix `−∇²/ρ` for the fluid particles.
+    /// Assembles the matrix `−∇²/ρ` for the fluid particles, with identity (Dirichlet) rows
+    /// for the particles flagged in `surface` (empty: none).
     pub fn assemble_matrix(
         &mut self,
         list: &NeighbourList,
         sums: &KernelSums,
         ghosts: &Ghosts,
         density: f64,
+        surface: &[bool],
     ) {
-        self.matrix
-            .assemble(list, sums, ghosts, MirrorRule::Even, 0.0, -1.0 / density);
+        self.matrix.assemble(
+            list,
+            sums,
+            ghosts,
+            MirrorRule::Even,
+            0.0,
+            -1.0 / density,
+            surface,
+        );
     }
 
     /// Number of stored matrix entries of the last assembly.

@@ -16,6 +16,27 @@ fn lattice(columns: usize, rows: usize, dr: f64) -> Vec<Vec2> {
         .collect()
 }
 
+/// A disc of particles on concentric rings: ring k at radius (k + ½)δr holds
+/// round(2π(k + ½)) particles, so each ring owns its annulus [kδr, (k + 1)δr] at almost
+/// exactly δr² per particle, and the outer ring lies δr/2 inside the disc's edge (as a
+/// lattice's outer row does). Rings give a drop a smooth, isotropic free surface, which a
+/// square lattice cut to a circle (a staircase) does not.
+pub fn disc(centre: Vec2, radius: f64, dr: f64) -> Vec<Vec2> {
+    let rings = (radius / dr).round() as usize;
+    let mut points = Vec::new();
+    for k in 0..rings {
+        let r = (k as f64 + 0.5) * dr;
+        let count = (2.0 * PI * (k as f64 + 0.5)).round() as usize;
+        // Alternate rings are turned by half a spacing, so that no spokes form.
+        let offset = if k % 2 == 0 { 0.0 } else { 0.5 };
+        points.extend((0..count).map(|m| {
+            let angle = 2.0 * PI * (m as f64 + offset) / count as f64;
+            centre + r * Vec2::new(angle.cos(), angle.sin())
+        }));
+    }
+    points
+}
+
 /// The Taylor–Green velocity u = U(−cos kx sin ky, sin kx cos ky), k = 2π/L, at amplitude `u0`.
 pub fn taylor_green_velocity(p: &Vec2, length: f64, u0: f64) -> Vec2 {
     let k = 2.0 * PI / length;
@@ -29,11 +50,41 @@ pub fn taylor_green_velocity(p: &Vec2, length: f64, u0: f64) -> Vec2 {
 pub fn build(case: &Case) -> Setup {
     let c = &case.scene;
     let dr = c.spacing();
+    let d = case.derived();
+    let scales = Scales {
+        length: c.length_scale(),
+        velocity: d.velocity_scale.max(f64::MIN_POSITIVE),
+    };
+    let body_force = Vec2::new(c.body_force[0], c.body_force[1]);
+    if let (SceneKind::Drop, Some((centre, w))) = (c.kind, c.drop) {
+        // A disc of rings above a no-slip plate at y = 0, falling at (0, −U), in an open box.
+        let positions = disc(Vec2::new(centre[0], centre[1]), 0.5 * w, dr);
+        let velocity = vec![Vec2::new(0.0, -c.velocity); positions.len()];
+        return Setup {
+            domain: Domain {
+                min: Vec2::new(-0.5 * c.length, 0.0),
+                max: Vec2::new(0.5 * c.length, c.height),
+                periodic: [false, false],
+            },
+            walls: vec![Surface::Plane(Wall {
+                axis: 1,
+                position: 0.0,
+                fluid_side: 1.0,
+            })],
+            positions,
+            velocity,
+            spacing: dr,
+            fluid: case.fluid,
+            scheme: case.scheme,
+            body_force,
+            scales,
+            free_surface: true,
+        };
+    }
     let positions: Vec<Vec2> = lattice(c.columns(), c.resolution, dr)
         .into_iter()
         .filter(|p| c.is_fluid(p.x, p.y))
         .collect();
-    let d = case.derived();
     let (periodic_y, mut walls, velocity) = match c.kind {
         SceneKind::Channel => (
             false,
@@ -51,7 +102,7 @@ pub fn build(case: &Case) -> Setup {
             ],
             vec![Vec2::zeros(); positions.len()],
         ),
-        SceneKind::TaylorGreen => (
+        SceneKind::TaylorGreen | SceneKind::Drop => (
             true,
             Vec::new(),
             positions
@@ -78,10 +129,8 @@ pub fn build(case: &Case) -> Setup {
         spacing: dr,
         fluid: case.fluid,
         scheme: case.scheme,
-        body_force: Vec2::new(c.body_force[0], c.body_force[1]),
-        scales: Scales {
-            length: c.length_scale(),
-            velocity: d.velocity_scale.max(f64::MIN_POSITIVE),
-        },
+        body_force,
+        scales,
+        free_surface: false,
     }
 }

@@ -16,7 +16,7 @@
 //! conformation, an Eulerian run builds its neighbour lists once.
 
 use crate::boundary::{Ghosts, Surface};
-use crate::case::{Frame, PpeSolver, Scheme, Viscosity};
+use crate::case::{Frame, PpeSolver, Scheme, SurfacePressure, Viscosity};
 use crate::kernel::QuinticSpline;
 use crate::math::{Mat2, Sym2, Vec2};
 use crate::neighbours::{Domain, NeighbourList, NeighbourSearch};
@@ -24,6 +24,7 @@ use crate::operators::{DivergenceForm, KernelSums};
 use crate::pressure::PressureSystem;
 use crate::rheology::{self, ConformationScheme, Fluid};
 use crate::shifting;
+use crate::surface::FreeSurface;
 use crate::timing::{Stage, StageSeconds};
 use rayon::prelude::*;
 use rheosph_solver::{NullSpace, SolveReport, SolverOptions, Strategy};
@@ -49,6 +50,9 @@ pub struct Setup {
     pub scheme: Scheme,
     pub body_force: Vec2,
     pub scales: Scales,
+    /// Free surfaces: detection and Dirichlet pressure (35a), the free-surface shifting
+    /// (40)–(44) and the positive stress divergence (20).
+    pub free_surface: bool,
 }
 
 /// The evolving particle state (fluid particles only, structure of arrays).
@@ -110,6 +114,12 @@ struct Workspace {
     /// The pressure increment p^{n+1} − p^n of an incremental projection.
     pressure_increment: Vec<f64>,
     grad_p: Vec<Vec2>,
+    /// Free-surface sets and normals, the predictor's velocity gradient and the Dirichlet
+    /// pressure of FS particles (free-surface scenes only).
+    surface: FreeSurface,
+    grad_u_star: Vec<Mat2>,
+    surface_pressure: Vec<f64>,
+    surface_region: Vec<bool>,
     ppe: PressureSystem,
     viscous: crate::viscosity::ImplicitViscosity,
 }
@@ -123,6 +133,7 @@ pub struct Simulation {
     pub domain: Domain,
     pub body_force: Vec2,
     pub scales: Scales,
+    pub free_surface: bool,
     pub state: State,
     pub timers: StageSeconds,
     ws: Workspace,
@@ -156,6 +167,7 @@ impl Simulation {
             domain: setup.domain,
             body_force: setup.body_force,
             scales: setup.scales,
+            free_surface: setup.free_surface,
             state: State {
                 time: 0.0,
                 steps: 0,
@@ -268,10 +280,12 @@ impl Simulation {
             domain,
             body_force,
             scales,
+            free_surface,
             state,
             timers,
             ws,
         } = self;
+        let free_surface = *free_surface;
 
         // Step 1: intermediate positions r*.
         timers.time(Stage::Advection, || {
@@ -307,8 +321,11 @@ impl Simulation {
             }
         });
 
-        // Step 2: ∇u^n and the shifting velocity.
+        // Step 2: ∇u^n, the free surface (36)–(39) and the shifting velocity.
         timers.time(Stage::Kinematics, || {
+            if free_surface {
+                ws.surface.detect(&ws.list, &ws.sums, kernel);
+            }
             ws.ghosts
                 .extend_velocity(&state.velocity, &mut ws.velocity_ext);
             ws.grad_u.resize(n, Mat2::zeros());
@@ -330,7 +347,28 @@ impl Simulation {
                         *spacing,
                         &mut ws.grad_c,
                     );
-                    shifting::internal_shifting_velocity(&ws.grad_c, kernel.h(), dt, u_ps);
+                    if free_surface {
+                        if scheme.surface_repulsion {
+                            shifting::add_repulsion(
+                                &ws.list,
+                                kernel,
+                                &ws.surface.on_surface,
+                                &mut ws.grad_c,
+                            );
+                        }
+                        ws.surface.region(&mut ws.surface_region);
+                        shifting::free_surface_shifting_velocity(
+                            &ws.grad_c,
+                            &state.velocity,
+                            &ws.surface_region,
+                            &ws.surface.normal,
+                            kernel.h(),
+                            dt,
+                            u_ps,
+                        );
+                    } else {
+                        shifting::internal_shifting_velocity(&ws.grad_c, kernel.h(), dt, u_ps);
+                    }
                 }
                 (Frame::Lagrangian, false) => u_ps.iter_mut().for_each(|s| *s = Vec2::zeros()),
             }
@@ -340,7 +378,12 @@ impl Simulation {
         let viscoelastic = fluid.model.is_viscoelastic();
         if viscoelastic {
             timers.time(Stage::Constitutive, || {
-                constitutive_update(fluid, scheme, dt, state, ws);
+                let form = if free_surface {
+                    DivergenceForm::Positive
+                } else {
+                    DivergenceForm::Negative
+                };
+                constitutive_update(fluid, scheme, dt, form, state, ws);
             });
         }
 
@@ -418,12 +461,22 @@ impl Simulation {
             ws.divergence.resize(n, 0.0);
             ws.sums
                 .divergence(&ws.list, &ws.velocity_ext, &mut ws.divergence);
+            if free_surface {
+                surface_pressure(fluid, scheme, state, ws);
+            }
+            let fs: &[bool] = if free_surface {
+                &ws.surface.on_surface
+            } else {
+                &[]
+            };
             if ws.matrix_stale {
                 ws.ppe
-                    .assemble_matrix(&ws.list, &ws.sums, &ws.ghosts, fluid.density);
+                    .assemble_matrix(&ws.list, &ws.sums, &ws.ghosts, fluid.density, fs);
             }
-            ws.ppe.assemble_rhs(&ws.divergence, dt);
+            ws.ppe
+                .assemble_rhs(&ws.divergence, dt, fs, &ws.surface_pressure);
         });
+        let dirichlet = free_surface && ws.surface.on_surface.iter().any(|&s| s);
         let matrix_unchanged = !std::mem::replace(&mut ws.matrix_stale, false);
         let options = SolverOptions {
             relative_tolerance: scheme.ppe_tolerance,
@@ -435,7 +488,11 @@ impl Simulation {
                 * scales.velocity
                 / (scales.length * dt),
             max_iterations: scheme.ppe_max_iterations,
-            null_space: NullSpace::Constant,
+            null_space: if dirichlet {
+                NullSpace::None
+            } else {
+                NullSpace::Constant
+            },
             strategy: match (scheme.ppe_solver, scheme.frame) {
                 (PpeSolver::Lu, _) | (PpeSolver::Auto, Frame::Eulerian) => Strategy::Direct,
                 _ => Strategy::IterativeWithFallback,
@@ -549,6 +606,17 @@ impl Simulation {
         {
             return fail("conformation tensor lost positive definiteness".into());
         }
+        if self.free_surface {
+            let d = &self.domain;
+            if let Some(p) = s.position.par_iter().find_any(|p| {
+                (0..2).any(|a| !d.periodic[a] && (p[a] < d.min[a] || p[a] > d.max[a]))
+            }) {
+                return fail(format!(
+                    "a particle left the domain at ({:.4}, {:.4})",
+                    p.x, p.y
+                ));
+            }
+        }
         let walls = &self.ws.ghosts.surfaces;
         if let Some(p) = s
             .position
@@ -605,6 +673,10 @@ impl Simulation {
             + b(&w.pressure_ext)
             + b(&w.pressure_increment)
             + b(&w.grad_p)
+            + w.surface.heap_bytes()
+            + b(&w.grad_u_star)
+            + b(&w.surface_pressure)
+            + b(&w.surface_region)
             + w.ppe.heap_bytes()
             + w.viscous.heap_bytes()
             + w.reorder.heap_bytes()
@@ -626,11 +698,46 @@ impl Simulation {
     }
 }
 
-/// Step 3: advance the conformation from n−½ to n+½, then Φ and ∇·Φ.
+/// Step 5 (free surfaces): the Dirichlet pressure of FS particles, (35a) with the predictor's
+/// velocity gradient ∇u* and τ_p^{n+½} (or 0), less p^n for an incremental projection.
+fn surface_pressure(fluid: &Fluid, scheme: &Scheme, state: &State, ws: &mut Workspace) {
+    let n = state.position.len();
+    ws.surface_pressure.clear();
+    ws.surface_pressure.resize(n, 0.0);
+    if scheme.free_surface_pressure == SurfacePressure::NormalStress {
+        ws.grad_u_star.resize(n, Mat2::zeros());
+        ws.sums
+            .gradient_vector(&ws.list, &ws.velocity_ext, &mut ws.grad_u_star);
+        let eta_s = fluid.solvent_viscosity();
+        let (fs, normal, grad) = (&ws.surface.on_surface, &ws.surface.normal, &ws.grad_u_star);
+        let conformation = &state.conformation;
+        ws.surface_pressure
+            .par_iter_mut()
+            .enumerate()
+            .filter(|(i, _)| fs[*i])
+            .for_each(|(i, p)| {
+                let tau = if conformation.is_empty() {
+                    Sym2::ZERO
+                } else {
+                    fluid.polymer_stress(&conformation[i])
+                };
+                *p = crate::surface::normal_stress_pressure(normal[i], &grad[i], &tau, eta_s);
+            });
+    }
+    if scheme.incremental_projection {
+        ws.surface_pressure
+            .par_iter_mut()
+            .zip(state.pressure.par_iter())
+            .for_each(|(p, old)| *p -= old);
+    }
+}
+
+/// Step 3: advance the conformation from n−½ to n+½, then Φ and ∇·Φ (`form` of (20)).
 fn constitutive_update(
     fluid: &Fluid,
     scheme: &Scheme,
     dt: f64,
+    form: DivergenceForm,
     state: &mut State,
     ws: &mut Workspace,
 ) {
@@ -697,15 +804,18 @@ fn constitutive_update(
         });
     ws.ghosts.extend_tensor(&ws.phi, &mut ws.tensor_ext);
     ws.div_phi.resize(n, Vec2::zeros());
-    ws.sums.divergence_tensor(
-        &ws.list,
-        &ws.tensor_ext,
-        DivergenceForm::Negative,
-        &mut ws.div_phi,
-    );
+    ws.sums
+        .divergence_tensor(&ws.list, &ws.tensor_ext, form, &mut ws.div_phi);
 }
 
 impl Simulation {
+    /// The free-surface sets and normals of the last step (free-surface scenes after their
+    /// first step; None otherwise).
+    pub fn surface(&self) -> Option<&FreeSurface> {
+        (self.free_surface && self.ws.surface.on_surface.len() == self.particles())
+            .then_some(&self.ws.surface)
+    }
+
     /// The vorticity ω = ∂v/∂x − ∂u/∂y of the velocity at the start of the last step (the
     /// Bonet–Lok gradient of step 2; zeros before the first step).
     pub fn vorticity(&self) -> Vec<f64> {

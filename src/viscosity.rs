@@ -46,7 +46,7 @@ impl ImplicitViscosity {
         tolerance: f64,
     ) -> Result<[SolveReport; 2], SolveError> {
         self.matrix
-            .assemble(list, sums, ghosts, MirrorRule::Odd, 1.0, -nu_dt);
+            .assemble(list, sums, ghosts, MirrorRule::Odd, 1.0, -nu_dt, &[]);
         let options = SolverOptions {
             relative_tolerance: tolerance,
             absolute_tolerance: 0.0,

@@ -54,8 +54,12 @@ pub fn snapshot(sim: &Simulation) -> Result<Vec<u8>> {
                     scalar("trace_A", trace),
                     scalar("det_A", det),
                     Attribute::scalars("kind", 1).with_data(IOBuffer::U8(vec![KIND_FLUID; n])),
-                    // Free-surface flags arrive with free-surface scenes; closed domains have none.
-                    Attribute::scalars("free_surface", 1).with_data(IOBuffer::U8(vec![0; n])),
+                    // FS membership (36) of the last step; closed domains have none.
+                    Attribute::scalars("free_surface", 1).with_data(IOBuffer::U8(
+                        sim.surface().map_or(vec![0; n], |fs| {
+                            fs.on_surface.iter().map(|&f| f as u8).collect()
+                        }),
+                    )),
                 ],
                 cell: Vec::new(),
             },

@@ -57,11 +57,13 @@ pub fn draw(
                     format!("Centre-line velocity ({})", sim.fluid.model.name())
                 }
                 crate::case::SceneKind::TaylorGreen => "Taylor-Green amplitude".into(),
+                crate::case::SceneKind::Drop => "Drop centre-of-mass velocity".into(),
             },
             x_label: "t".into(),
             y_label: match kind {
                 crate::case::SceneKind::Channel => "u(H/2)".into(),
                 crate::case::SceneKind::TaylorGreen => "amplitude".into(),
+                crate::case::SceneKind::Drop => "v".into(),
             },
             ..Default::default()
         },
@@ -87,7 +89,7 @@ pub fn draw(
     }
     match kind {
         crate::case::SceneKind::Channel => profiles(dir, sim, reference, stresses),
-        crate::case::SceneKind::TaylorGreen => Ok(()),
+        crate::case::SceneKind::TaylorGreen | crate::case::SceneKind::Drop => Ok(()),
     }
 }
 
@@ -248,7 +250,7 @@ pub fn cylinder(
     }
     let points: Vec<(f64, f64)> = sim.state.position.iter().map(|p| (p.x, p.y)).collect();
     let extent = sim.domain.size();
-    let extent = (extent.x, extent.y);
+    let extent = ((0.0, extent.x), (0.0, extent.y));
     let t = sim.state.time;
     plot::draw_field(
         &dir.join("field_vorticity.png"),

@@ -2,6 +2,7 @@
 //! directory (`series.csv`, `summary.json`, PNG charts).
 
 mod charts;
+mod drop;
 mod errors;
 mod steady;
 
@@ -81,8 +82,22 @@ pub struct Summary {
     pub neighbour_pairs_per_particle: f64,
     /// Channels with a cylinder: steady state, time averages, drag and centre-line values.
     pub steady: Option<SteadySummary>,
+    /// Drops: the largest width, the final shape, and the area drift.
+    pub drop: Option<DropSummary>,
     pub version: &'static str,
     pub case: crate::case::CaseFile,
+}
+
+/// The drop-impact summary (see `drop.csv` for the histories).
+#[derive(Clone, Debug, Serialize)]
+pub struct DropSummary {
+    pub t_star_reached: f64,
+    pub max_width_star: f64,
+    pub t_star_at_max_width: f64,
+    pub final_width_star: f64,
+    pub final_height_star: f64,
+    /// Largest |area/area(first step) − 1|.
+    pub max_area_drift: f64,
 }
 
 /// Series rows are flushed to disk at most this often (and at the end).
@@ -196,6 +211,14 @@ fn run_from(case: &Case, options: &RunOptions, resumed: Option<Resumed>) -> Resu
     let mut last_dt = 0.0;
     let tolerance = 1e-9 * case.end_time;
     let body = Body::for_case(case);
+    let mut drop_probe = case
+        .scene
+        .drop
+        .map(|(_, w)| drop::DropProbe::new(w, case.scene.velocity));
+    if let (Some(d), true) = (drop_probe.as_mut(), is_resumed) {
+        d.restore(&options.out_dir, sim.state.time)?;
+    }
+    let drop_path = options.out_dir.join("drop.csv");
     // Shortened to the end of the averaging window once the flow is steady.
     let mut end_time = case.end_time;
     let mut steady_at = None;
@@ -226,11 +249,21 @@ fn run_from(case: &Case, options: &RunOptions, resumed: Option<Resumed>) -> Resu
                 0.0,
                 &mut rows,
             );
+            if let Some(d) = drop_probe.as_mut() {
+                d.record(&sim);
+            }
             next_output += case.output_interval;
         }
     }
     if !is_resumed {
-        snapshot_due(&mut snapshots, &mut next_snapshot, case, &mut sim, true)?;
+        snapshot_due(
+            &mut snapshots,
+            &mut next_snapshot,
+            case,
+            &mut sim,
+            true,
+            drop_pngs(options, drop_probe.as_ref()),
+        )?;
     }
     while sim.state.time < end_time - tolerance {
         let dt_max = step_limit(&sim, end_time - sim.state.time, last_dt);
@@ -255,6 +288,9 @@ fn run_from(case: &Case, options: &RunOptions, resumed: Option<Resumed>) -> Resu
                 last_dt,
                 &mut rows,
             );
+            if let Some(d) = drop_probe.as_mut() {
+                d.record(&sim);
+            }
             if let (Some(b), Some(criterion)) = (body.as_ref(), case.steady) {
                 match averages.as_mut() {
                     Some(avg) => {
@@ -276,13 +312,23 @@ fn run_from(case: &Case, options: &RunOptions, resumed: Option<Resumed>) -> Resu
             while next_output <= sim.state.time + tolerance {
                 next_output += case.output_interval;
             }
-            snapshot_due(&mut snapshots, &mut next_snapshot, case, &mut sim, false)?;
+            snapshot_due(
+                &mut snapshots,
+                &mut next_snapshot,
+                case,
+                &mut sim,
+                false,
+                drop_pngs(options, drop_probe.as_ref()),
+            )?;
             if sim.state.time >= next_checkpoint - tolerance {
                 while next_checkpoint <= sim.state.time + tolerance {
                     next_checkpoint += case.checkpoint_interval;
                 }
                 let t0 = Instant::now();
                 io::write_atomic(&series_path, io::series_csv(&rows).as_bytes())?;
+                if let Some(d) = drop_probe.as_ref() {
+                    io::write_atomic(&drop_path, d.csv().as_bytes())?;
+                }
                 let state = LoopState {
                     case_name: case.name.clone(),
                     next_output,
@@ -311,6 +357,9 @@ fn run_from(case: &Case, options: &RunOptions, resumed: Option<Resumed>) -> Resu
             if last_flush.elapsed() >= FLUSH_INTERVAL {
                 let t0 = Instant::now();
                 io::write_atomic(&series_path, io::series_csv(&rows).as_bytes())?;
+                if let Some(d) = drop_probe.as_ref() {
+                    io::write_atomic(&drop_path, d.csv().as_bytes())?;
+                }
                 sim.timers.add(Stage::Output, t0.elapsed().as_secs_f64());
                 last_flush = Instant::now();
             }
@@ -326,6 +375,9 @@ fn run_from(case: &Case, options: &RunOptions, resumed: Option<Resumed>) -> Resu
             last_dt,
             &mut rows,
         );
+        if let Some(d) = drop_probe.as_mut() {
+            d.record(&sim);
+        }
     }
     // Without a steady state the "averages" are the final state alone.
     let steady = body.as_ref().map(|b| {
@@ -350,11 +402,42 @@ fn run_from(case: &Case, options: &RunOptions, resumed: Option<Resumed>) -> Resu
             avg,
         )
     });
-    snapshot_due(&mut snapshots, &mut next_snapshot, case, &mut sim, true)?;
+    snapshot_due(
+        &mut snapshots,
+        &mut next_snapshot,
+        case,
+        &mut sim,
+        true,
+        drop_pngs(options, drop_probe.as_ref()),
+    )?;
     progress.finish_and_clear();
 
     let t0 = Instant::now();
     io::write_atomic(&series_path, io::series_csv(&rows).as_bytes())?;
+    let drop_summary = match drop_probe.as_ref() {
+        Some(d) => {
+            io::write_atomic(&drop_path, d.csv().as_bytes())?;
+            if options.charts {
+                d.charts(&options.out_dir)?;
+            }
+            d.rows.last().map(|last| {
+                let widest = d
+                    .rows
+                    .iter()
+                    .max_by(|a, b| a.width.total_cmp(&b.width))
+                    .unwrap_or(last);
+                DropSummary {
+                    t_star_reached: last.t_star,
+                    max_width_star: widest.width,
+                    t_star_at_max_width: widest.t_star,
+                    final_width_star: last.width,
+                    final_height_star: last.height,
+                    max_area_drift: d.max_area_drift(),
+                }
+            })
+        }
+        None => None,
+    };
     let (errors, stresses) = errors::final_errors(
         &sim,
         reference.as_mut().map_err(|e| e.as_str()),
@@ -385,7 +468,7 @@ fn run_from(case: &Case, options: &RunOptions, resumed: Option<Resumed>) -> Resu
             )?;
         }
     }
-    if options.charts && body.is_none() {
+    if options.charts && body.is_none() && drop_probe.is_none() {
         charts::draw(
             &options.out_dir,
             case.scene.kind,
@@ -428,6 +511,7 @@ fn run_from(case: &Case, options: &RunOptions, resumed: Option<Resumed>) -> Resu
         },
         neighbour_pairs_per_particle: sim.neighbour_pairs() as f64 / sim.particles() as f64,
         steady: steady.map(|(summary, _)| summary),
+        drop: drop_summary,
         version: env!("CARGO_PKG_VERSION"),
         case: case.source.clone(),
     };
@@ -445,6 +529,7 @@ fn snapshot_due(
     case: &Case,
     sim: &mut Simulation,
     force: bool,
+    drop_pngs: Option<(&Path, &drop::DropProbe)>,
 ) -> Result<()> {
     let tolerance = 1e-9 * case.end_time;
     if let Some(series) = snapshots.as_mut() {
@@ -452,6 +537,9 @@ fn snapshot_due(
         if !written && (force || sim.state.time >= *next_snapshot - tolerance) {
             let t0 = Instant::now();
             series.write(sim)?;
+            if let Some((dir, probe)) = drop_pngs {
+                drop::trace_snapshot(&dir.join("snapshots"), sim, probe)?;
+            }
             sim.timers.add(Stage::Output, t0.elapsed().as_secs_f64());
             while *next_snapshot <= sim.state.time + tolerance {
                 *next_snapshot += case.snapshot_interval;
@@ -459,6 +547,16 @@ fn snapshot_due(
         }
     }
     Ok(())
+}
+
+/// Where a drop's tr A snapshots go (with the charts only).
+fn drop_pngs<'a>(
+    options: &'a RunOptions,
+    probe: Option<&'a drop::DropProbe>,
+) -> Option<(&'a Path, &'a drop::DropProbe)> {
+    probe
+        .filter(|_| options.charts)
+        .map(|p| (options.out_dir.as_path(), p))
 }
 
 /// PPE statistics over a window of steps.
