@@ -54,6 +54,8 @@ pub enum SceneKind {
     TaylorGreen,
     /// A free-surface drop falling onto a no-slip plate at y = 0 (King & Lind §IV C).
     Drop,
+    /// A jet fed through an orifice onto a no-slip plate at y = 0 (King & Lind §IV D).
+    Jet,
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -79,6 +81,21 @@ pub struct SceneSpec {
     /// The drop of a `drop` scene.
     #[serde(default)]
     pub drop: Option<DropSpec>,
+    /// The orifice of a `jet` scene.
+    #[serde(default)]
+    pub jet: Option<JetSpec>,
+}
+
+/// `[scene.jet]`: an orifice of width D centred on x = 0 at `orifice_height` above the plate,
+/// fed downwards at `scene.velocity` = U0. For a jet scene `scene.resolution` is D/δr,
+/// `scene.body_force` gravity, and `length` × `height` the box x ∈ [−length/2, length/2],
+/// y ∈ [0, height] that particles must stay in.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JetSpec {
+    /// D.
+    pub width: f64,
+    pub orifice_height: f64,
 }
 
 /// `[scene.drop]`: a circular drop above the plate. For a drop scene `scene.resolution` is
@@ -372,32 +389,35 @@ pub struct Scene {
     pub cylinder: Option<([f64; 2], f64)>,
     /// The drop of a drop scene: (centre, diameter W).
     pub drop: Option<([f64; 2], f64)>,
+    /// The orifice of a jet scene: (width D, height above the plate).
+    pub jet: Option<(f64, f64)>,
 }
 
 impl Scene {
     /// The length of Re and Wi: the cylinder radius R if there is a cylinder, else the height
     /// (King & Lind: Wi = λU/H in the channel, Wi = ⟨u⟩λ/R for the cylinder array).
     /// A drop's length is its diameter W (Re = ρUW/η0, De = λU/W).
+    /// A jet's is its width D (Wi = λU0/D).
     pub fn length_scale(&self) -> f64 {
-        match (self.drop, self.cylinder) {
-            (Some((_, w)), _) => w,
-            (None, Some((_, r))) => r,
-            (None, None) => self.height,
+        match (self.drop, self.jet, self.cylinder) {
+            (Some((_, w)), _, _) | (None, Some((w, _)), _) => w,
+            (None, None, Some((_, r))) => r,
+            (None, None, None) => self.height,
         }
     }
 
-    /// δr: height/resolution, or W/resolution for a drop.
+    /// δr: height/resolution, or W/resolution for a drop, D/resolution for a jet.
     pub fn spacing(&self) -> f64 {
-        match self.drop {
-            Some((_, w)) => w / self.resolution as f64,
-            None => self.height / self.resolution as f64,
+        match (self.drop, self.jet) {
+            (Some((_, w)), _) | (None, Some((w, _))) => w / self.resolution as f64,
+            (None, None) => self.height / self.resolution as f64,
         }
     }
 
     /// Whether the scene has free surfaces (detection, Dirichlet pressure, the free-surface
     /// forms of shifting and of the stress divergence).
     pub fn has_free_surface(&self) -> bool {
-        self.kind == SceneKind::Drop
+        matches!(self.kind, SceneKind::Drop | SceneKind::Jet)
     }
 
     pub fn columns(&self) -> usize {
@@ -406,7 +426,11 @@ impl Scene {
 
     /// Fluid particles: the lattice less the points inside the cylinder (or within 0.1δr of
     /// its surface, whose mirrors would nearly coincide with them).
+    /// (A jet: the initial inflow buffer; it grows as the jet runs.)
     pub fn particles(&self) -> usize {
+        if self.jet.is_some() {
+            return self.resolution * crate::inflow::BUFFER_ROWS;
+        }
         if let Some((centre, w)) = self.drop {
             let c = crate::math::Vec2::new(centre[0], centre[1]);
             return crate::scene::disc(c, 0.5 * w, self.spacing()).len();
@@ -495,7 +519,7 @@ impl Case {
             SceneKind::Channel => {
                 f.density * c.body_force[0].abs() * c.height * c.height / (8.0 * f.viscosity)
             }
-            SceneKind::TaylorGreen | SceneKind::Drop => c.velocity,
+            SceneKind::TaylorGreen | SceneKind::Drop | SceneKind::Jet => c.velocity,
         };
         let length = c.length_scale();
         let re = f.density * u * length / f.viscosity;
@@ -722,7 +746,7 @@ fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
             ),
         ));
     }
-    let is_drop = scene.kind == SceneKind::Drop;
+    let is_drop = matches!(scene.kind, SceneKind::Drop | SceneKind::Jet);
     let dr = height / scene.resolution as f64;
     let columns = length / dr;
     if !is_drop && (columns - columns.round()).abs() > 1e-6 * columns {
@@ -808,13 +832,16 @@ fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
             }
             ([0.0, 0.0], positive("scene.velocity", u0)?)
         }
-        SceneKind::Drop => {
+        SceneKind::Drop | SceneKind::Jet => {
             let g = scene.body_force.unwrap_or([0.0, 0.0]);
             if !(g[0].is_finite() && g[1].is_finite()) {
                 return Err(field_err("scene.body_force", "must be finite"));
             }
             let u = scene.velocity.ok_or_else(|| {
-                field_err("scene.velocity", "required for a drop: the impact speed U")
+                field_err(
+                    "scene.velocity",
+                    "required for a drop (the impact speed U) or a jet (the inflow speed U0)",
+                )
             })?;
             if scene.cylinder.is_some() {
                 return Err(field_err(
@@ -832,7 +859,7 @@ fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
                 "required for a drop scene: [scene.drop] diameter = W",
             ));
         }
-        (Some(_), SceneKind::Channel | SceneKind::TaylorGreen) => {
+        (Some(_), SceneKind::Channel | SceneKind::TaylorGreen | SceneKind::Jet) => {
             return Err(field_err("scene.drop", "only a drop scene has a drop"));
         }
         (None, _) => None,
@@ -853,6 +880,43 @@ fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
                 ));
             }
             Some(([0.0, centre_height], w))
+        }
+    };
+    let jet = match (&scene.jet, scene.kind) {
+        (None, SceneKind::Jet) => {
+            return Err(field_err(
+                "scene.jet",
+                "required for a jet scene: [scene.jet] width = D, orifice_height = H",
+            ));
+        }
+        (Some(_), SceneKind::Channel | SceneKind::TaylorGreen | SceneKind::Drop) => {
+            return Err(field_err("scene.jet", "only a jet scene has an orifice"));
+        }
+        (None, _) => None,
+        (Some(j), _) => {
+            let d = positive("scene.jet.width", j.width)?;
+            let orifice = positive("scene.jet.orifice_height", j.orifice_height)?;
+            let dr = d / scene.resolution as f64;
+            let top = orifice + (crate::inflow::BUFFER_ROWS as f64 + support_in_dr) * dr;
+            if top > height {
+                return Err(field_err(
+                    "scene.height",
+                    format!("the box must hold the orifice, its inflow buffer and a kernel support: at least {top}"),
+                ));
+            }
+            if d + 2.0 * support_in_dr * dr > length {
+                return Err(field_err(
+                    "scene.length",
+                    "the box must be wider than the jet and a kernel support each side",
+                ));
+            }
+            if scene.velocity.is_some_and(|u| u <= 0.0) {
+                return Err(field_err(
+                    "scene.velocity",
+                    "a jet's inflow speed must be positive",
+                ));
+            }
+            Some((d, orifice))
         }
     };
     let cylinder = match &scene.cylinder {
@@ -1012,6 +1076,7 @@ fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
             velocity,
             cylinder,
             drop,
+            jet,
         },
         fluid: Fluid {
             model,

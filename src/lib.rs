@@ -17,6 +17,7 @@ pub mod cli;
 pub mod compare;
 pub mod diagnostics;
 pub mod forces;
+pub mod inflow;
 pub mod io;
 pub mod kernel;
 pub mod laplacian_matrix;

@@ -28,6 +28,7 @@ pub struct Reorder {
     vec2: Vec<Vec2>,
     scalar: Vec<f64>,
     sym: Vec<Sym2>,
+    flags: Vec<bool>,
 }
 
 impl Reorder {
@@ -37,6 +38,7 @@ impl Reorder {
             + crate::vec_bytes(&self.vec2)
             + crate::vec_bytes(&self.scalar)
             + crate::vec_bytes(&self.sym)
+            + crate::vec_bytes(&self.flags)
     }
 
     /// Computes the Morton order of `positions` over cells of width `cell`; returns false if
@@ -63,6 +65,10 @@ impl Reorder {
 
     pub fn apply_scalar(&mut self, data: &mut [f64]) {
         permute(&self.keys, data, &mut self.scalar);
+    }
+
+    pub fn apply_bool(&mut self, data: &mut [bool]) {
+        permute(&self.keys, data, &mut self.flags);
     }
 
     pub fn apply_sym(&mut self, data: &mut [Sym2]) {

@@ -88,6 +88,9 @@ impl Reference {
             (SceneKind::Drop, _) => {
                 return Err("no analytic solution for a drop impact (see drop.csv)".into());
             }
+            (SceneKind::Jet, _) => {
+                return Err("no analytic solution for a buckling jet (see jet.csv)".into());
+            }
         };
         Ok(Self {
             solution,
@@ -277,7 +280,7 @@ pub fn measured_velocity(
             });
             2.0 * sum / positions.len() as f64
         }
-        SceneKind::Drop => {
+        SceneKind::Drop | SceneKind::Jet => {
             diagnostics::blocked_sum(velocity.len(), |i| velocity[i].y) / velocity.len() as f64
         }
     }

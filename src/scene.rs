@@ -2,6 +2,7 @@
 
 use crate::boundary::{Circle, Surface, Wall};
 use crate::case::{Case, SceneKind};
+use crate::inflow::Inflow;
 use crate::math::Vec2;
 use crate::neighbours::Domain;
 use crate::step::{Scales, Setup};
@@ -56,9 +57,17 @@ pub fn build(case: &Case) -> Setup {
         velocity: d.velocity_scale.max(f64::MIN_POSITIVE),
     };
     let body_force = Vec2::new(c.body_force[0], c.body_force[1]);
-    if let (SceneKind::Drop, Some((centre, w))) = (c.kind, c.drop) {
-        // A disc of rings above a no-slip plate at y = 0, falling at (0, −U), in an open box.
-        let positions = disc(Vec2::new(centre[0], centre[1]), 0.5 * w, dr);
+    if c.has_free_surface() {
+        // A drop (a disc of rings falling at (0, −U)) or a jet's inflow buffer, above a
+        // no-slip plate at y = 0, in an open box.
+        let (positions, inflow) = match (c.drop, c.jet) {
+            (Some((centre, w)), _) => (disc(Vec2::new(centre[0], centre[1]), 0.5 * w, dr), None),
+            (None, Some((width, orifice))) => {
+                let (inflow, positions) = Inflow::new(0.0, width, orifice, c.velocity, dr);
+                (positions, Some(inflow))
+            }
+            (None, None) => unreachable!("validated: a free-surface scene has a drop or a jet"),
+        };
         let velocity = vec![Vec2::new(0.0, -c.velocity); positions.len()];
         return Setup {
             domain: Domain {
@@ -79,6 +88,7 @@ pub fn build(case: &Case) -> Setup {
             body_force,
             scales,
             free_surface: true,
+            inflow,
         };
     }
     let positions: Vec<Vec2> = lattice(c.columns(), c.resolution, dr)
@@ -102,7 +112,7 @@ pub fn build(case: &Case) -> Setup {
             ],
             vec![Vec2::zeros(); positions.len()],
         ),
-        SceneKind::TaylorGreen | SceneKind::Drop => (
+        SceneKind::TaylorGreen | SceneKind::Drop | SceneKind::Jet => (
             true,
             Vec::new(),
             positions
@@ -132,5 +142,6 @@ pub fn build(case: &Case) -> Setup {
         body_force,
         scales,
         free_surface: false,
+        inflow: None,
     }
 }

@@ -17,6 +17,7 @@
 
 use crate::boundary::{Ghosts, Surface};
 use crate::case::{Frame, PpeSolver, Scheme, SurfacePressure, Viscosity};
+use crate::inflow::Inflow;
 use crate::kernel::QuinticSpline;
 use crate::math::{Mat2, Sym2, Vec2};
 use crate::neighbours::{Domain, NeighbourList, NeighbourSearch};
@@ -53,6 +54,8 @@ pub struct Setup {
     /// Free surfaces: detection and Dirichlet pressure (35a), the free-surface shifting
     /// (40)–(44) and the positive stress divergence (20).
     pub free_surface: bool,
+    /// An inflow buffer (jets).
+    pub inflow: Option<Inflow>,
 }
 
 /// The evolving particle state (fluid particles only, structure of arrays).
@@ -134,6 +137,8 @@ pub struct Simulation {
     pub body_force: Vec2,
     pub scales: Scales,
     pub free_surface: bool,
+    /// The inflow buffer of a jet; its flags follow the particle order.
+    pub inflow: Option<Inflow>,
     pub state: State,
     pub timers: StageSeconds,
     ws: Workspace,
@@ -168,6 +173,7 @@ impl Simulation {
             body_force: setup.body_force,
             scales: setup.scales,
             free_surface: setup.free_surface,
+            inflow: setup.inflow,
             state: State {
                 time: 0.0,
                 steps: 0,
@@ -244,6 +250,9 @@ impl Simulation {
             ws.reorder.apply_vec2(&mut s.shift_velocity);
             ws.reorder.apply_scalar(&mut s.pressure);
             ws.reorder.apply_sym(&mut s.conformation);
+            if let Some(inflow) = self.inflow.as_mut() {
+                ws.reorder.apply_bool(&mut inflow.flags);
+            }
             ws.lists_valid = false;
         }
         self.timers
@@ -281,11 +290,14 @@ impl Simulation {
             body_force,
             scales,
             free_surface,
+            inflow,
             state,
             timers,
             ws,
         } = self;
         let free_surface = *free_surface;
+        let buffer: &[bool] = inflow.as_ref().map_or(&[], |b| &b.flags);
+        let prescribed = inflow.as_ref().map_or(Vec2::zeros(), |b| b.velocity);
 
         // Step 1: intermediate positions r*.
         timers.time(Stage::Advection, || {
@@ -325,6 +337,12 @@ impl Simulation {
         timers.time(Stage::Kinematics, || {
             if free_surface {
                 ws.surface.detect(&ws.list, &ws.sums, kernel);
+                // Inflow buffer particles take Dirichlet rows (p = 0) and are not near the
+                // surface themselves.
+                for (i, _) in buffer.iter().enumerate().filter(|(_, &b)| b) {
+                    ws.surface.on_surface[i] = true;
+                    ws.surface.near_surface[i] = false;
+                }
             }
             ws.ghosts
                 .extend_velocity(&state.velocity, &mut ws.velocity_ext);
@@ -371,6 +389,9 @@ impl Simulation {
                     }
                 }
                 (Frame::Lagrangian, false) => u_ps.iter_mut().for_each(|s| *s = Vec2::zeros()),
+            }
+            for (i, _) in buffer.iter().enumerate().filter(|(_, &b)| b) {
+                u_ps[i] = Vec2::zeros();
             }
         });
 
@@ -439,6 +460,9 @@ impl Simulation {
         if implicit {
             timers
                 .time(Stage::Viscous, || {
+                    for (i, _) in buffer.iter().enumerate().filter(|(_, &b)| b) {
+                        ws.velocity_star[i] = prescribed;
+                    }
                     ws.viscous.solve(
                         &ws.list,
                         &ws.sums,
@@ -446,6 +470,7 @@ impl Simulation {
                         nu * dt,
                         &state.velocity,
                         &mut ws.velocity_star,
+                        buffer,
                         VISCOUS_TOLERANCE,
                     )
                 })
@@ -462,7 +487,7 @@ impl Simulation {
             ws.sums
                 .divergence(&ws.list, &ws.velocity_ext, &mut ws.divergence);
             if free_surface {
-                surface_pressure(fluid, scheme, state, ws);
+                surface_pressure(fluid, scheme, state, buffer, ws);
             }
             let fs: &[bool] = if free_surface {
                 &ws.surface.on_surface
@@ -540,6 +565,9 @@ impl Simulation {
                 .par_iter_mut()
                 .zip(grad_p.par_iter())
                 .for_each(|(u, gp)| *u -= scale * gp);
+            for (i, _) in buffer.iter().enumerate().filter(|(_, &b)| b) {
+                ws.velocity_star[i] = prescribed;
+            }
         });
 
         // Step 7: r^{n+1} = r^n + δt/2 (u^n + u^{n+1} + 2u_ps), then u^{n+1} becomes the state.
@@ -556,6 +584,9 @@ impl Simulation {
                     });
             }
             std::mem::swap(&mut state.velocity, &mut ws.velocity_star);
+            if let Some(inflow) = inflow.as_mut() {
+                feed(inflow, fluid, dt, state);
+            }
         });
 
         state.time += dt;
@@ -700,7 +731,13 @@ impl Simulation {
 
 /// Step 5 (free surfaces): the Dirichlet pressure of FS particles, (35a) with the predictor's
 /// velocity gradient ∇u* and τ_p^{n+½} (or 0), less p^n for an incremental projection.
-fn surface_pressure(fluid: &Fluid, scheme: &Scheme, state: &State, ws: &mut Workspace) {
+fn surface_pressure(
+    fluid: &Fluid,
+    scheme: &Scheme,
+    state: &State,
+    buffer: &[bool],
+    ws: &mut Workspace,
+) {
     let n = state.position.len();
     ws.surface_pressure.clear();
     ws.surface_pressure.resize(n, 0.0);
@@ -714,7 +751,7 @@ fn surface_pressure(fluid: &Fluid, scheme: &Scheme, state: &State, ws: &mut Work
         ws.surface_pressure
             .par_iter_mut()
             .enumerate()
-            .filter(|(i, _)| fs[*i])
+            .filter(|(i, _)| fs[*i] && !buffer.get(*i).copied().unwrap_or(false))
             .for_each(|(i, p)| {
                 let tau = if conformation.is_empty() {
                     Sym2::ZERO
@@ -729,6 +766,34 @@ fn surface_pressure(fluid: &Fluid, scheme: &Scheme, state: &State, ws: &mut Work
             .par_iter_mut()
             .zip(state.pressure.par_iter())
             .for_each(|(p, old)| *p -= old);
+    }
+}
+
+/// After step 7 (jets): buffer particles keep the rest conformation (no polymer stress
+/// enters), those below the orifice are released, and new rows join the buffer on top.
+fn feed(inflow: &mut Inflow, fluid: &Fluid, dt: f64, state: &mut State) {
+    let rest = fluid.model.rest_conformation();
+    let viscoelastic = !state.conformation.is_empty();
+    if viscoelastic {
+        for (a, _) in state
+            .conformation
+            .iter_mut()
+            .zip(&inflow.flags)
+            .filter(|(_, &b)| b)
+        {
+            *a = rest;
+        }
+    }
+    let added = inflow.advance(dt, &state.position);
+    let velocity = inflow.velocity;
+    for p in added {
+        state.position.push(p);
+        state.velocity.push(velocity);
+        state.pressure.push(0.0);
+        state.shift_velocity.push(Vec2::zeros());
+        if viscoelastic {
+            state.conformation.push(rest);
+        }
     }
 }
 

@@ -26,6 +26,9 @@ use rayon::prelude::*;
 const DIVERGENCE_THRESHOLD: f64 = 1.4;
 const CONCENTRATION_WEIGHT: f64 = 0.5;
 const CONCENTRATION_FLOOR: f64 = -0.2;
+/// Normal strength (|n| h², see [`FreeSurface::normal_strength`]) above which an NS particle
+/// belongs to the surface region: 15 % of a flat surface's.
+pub const NEAR_SURFACE_STRENGTH: f64 = 0.05;
 
 /// The free-surface sets and normals of one particle configuration, with buffers reused from
 /// step to step.
@@ -41,6 +44,10 @@ pub struct FreeSurface {
     pub near_surface: Vec<bool>,
     /// Unit outward normal n_i of (39) for FS and NS particles, zero elsewhere.
     pub normal: Vec<Vec2>,
+    /// |n_i| of (39) before normalisation, times h² (dimensionless): 0.34 on a flat
+    /// surface, 0.24, 0.07 and 0.01 on the next rows in, and near 0 wherever the surface is
+    /// on both sides (the middle of a thin jet).
+    pub normal_strength: Vec<f64>,
     raw_normal: Vec<Vec2>,
 }
 
@@ -53,18 +60,19 @@ impl FreeSurface {
             + b(&self.on_surface)
             + b(&self.near_surface)
             + b(&self.normal)
+            + b(&self.normal_strength)
             + b(&self.raw_normal)
     }
 
-    /// FS ∪ NS into `out`.
+    /// The surface region into `out`: FS, and the NS particles whose normal is well defined
+    /// (strength above [`NEAR_SURFACE_STRENGTH`]: the first two rows in from a flat surface,
+    /// not the middle of a thin jet, where opposite surfaces cancel and n is noise).
     pub fn region(&self, out: &mut Vec<bool>) {
         out.clear();
-        out.extend(
-            self.on_surface
-                .iter()
-                .zip(&self.near_surface)
-                .map(|(&s, &n)| s || n),
-        );
+        out.extend((0..self.on_surface.len()).map(|i| {
+            self.on_surface[i]
+                || (self.near_surface[i] && self.normal_strength[i] > NEAR_SURFACE_STRENGTH)
+        }));
     }
 
     /// Particles in FS.
@@ -124,24 +132,32 @@ impl FreeSurface {
                         .any(|k| (list.index[k] as usize) < n && fs[list.index[k] as usize]);
             });
         let (raw, near) = (&self.raw_normal, &self.near_surface);
+        let h2 = kernel.h() * kernel.h();
         self.normal.resize(n, Vec2::zeros());
-        self.normal.par_iter_mut().enumerate().for_each(|(i, out)| {
-            *out = Vec2::zeros();
-            if !(fs[i] || near[i]) {
-                return;
-            }
-            let mut acc = raw[i] * (self_weight / c[i]);
-            for k in list.range(i) {
-                let j = list.index[k] as usize;
-                if j < n {
-                    acc += raw[j] * (kernel.value(list.rij[k].norm()) * dv / c[j]);
+        self.normal_strength.resize(n, 0.0);
+        self.normal
+            .par_iter_mut()
+            .zip(self.normal_strength.par_iter_mut())
+            .enumerate()
+            .for_each(|(i, (out, strength))| {
+                *out = Vec2::zeros();
+                *strength = 0.0;
+                if !(fs[i] || near[i]) {
+                    return;
                 }
-            }
-            let norm = acc.norm();
-            if norm > 0.0 {
-                *out = acc / norm;
-            }
-        });
+                let mut acc = raw[i] * (self_weight / c[i]);
+                for k in list.range(i) {
+                    let j = list.index[k] as usize;
+                    if j < n {
+                        acc += raw[j] * (kernel.value(list.rij[k].norm()) * dv / c[j]);
+                    }
+                }
+                let norm = acc.norm();
+                *strength = norm * h2;
+                if norm > 0.0 {
+                    *out = acc / norm;
+                }
+            });
     }
 }
 
@@ -197,6 +213,13 @@ mod tests {
             );
         }
         assert_eq!(fs.count(), 4 * (m - 1));
+        // The normal's strength falls off into the block: 0.34, 0.24, 0.07, 0.01 on the first
+        // four rows of a flat side.
+        let strength: Vec<f64> = (0..4)
+            .map(|row| fs.normal_strength[row * m + m / 2])
+            .collect();
+        assert!(strength[0] > 0.3 && strength[1] > 0.2 && strength[2] > NEAR_SURFACE_STRENGTH);
+        assert!(strength[3] < NEAR_SURFACE_STRENGTH, "{strength:?}");
     }
 
     /// A disc of radius 20 δr built of concentric rings (as drops are, [`crate::scene::disc`]):

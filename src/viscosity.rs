@@ -33,6 +33,7 @@ impl ImplicitViscosity {
     }
 
     /// Solves for u* given the explicit part `rhs` (overwritten with u*): `nu_dt` = δt ν.
+    /// Rows flagged in `prescribed` (empty: none) keep their value (inflow particles).
     /// `tolerance` is the relative residual; returns the reports of the x and y solves.
     #[allow(clippy::too_many_arguments)]
     pub fn solve(
@@ -43,10 +44,11 @@ impl ImplicitViscosity {
         nu_dt: f64,
         warm_start: &[Vec2],
         velocity: &mut [Vec2],
+        prescribed: &[bool],
         tolerance: f64,
     ) -> Result<[SolveReport; 2], SolveError> {
         self.matrix
-            .assemble(list, sums, ghosts, MirrorRule::Odd, 1.0, -nu_dt, &[]);
+            .assemble(list, sums, ghosts, MirrorRule::Odd, 1.0, -nu_dt, prescribed);
         let options = SolverOptions {
             relative_tolerance: tolerance,
             absolute_tolerance: 0.0,

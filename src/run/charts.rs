@@ -57,13 +57,15 @@ pub fn draw(
                     format!("Centre-line velocity ({})", sim.fluid.model.name())
                 }
                 crate::case::SceneKind::TaylorGreen => "Taylor-Green amplitude".into(),
-                crate::case::SceneKind::Drop => "Drop centre-of-mass velocity".into(),
+                crate::case::SceneKind::Drop | crate::case::SceneKind::Jet => {
+                    "Centre-of-mass velocity".into()
+                }
             },
             x_label: "t".into(),
             y_label: match kind {
                 crate::case::SceneKind::Channel => "u(H/2)".into(),
                 crate::case::SceneKind::TaylorGreen => "amplitude".into(),
-                crate::case::SceneKind::Drop => "v".into(),
+                crate::case::SceneKind::Drop | crate::case::SceneKind::Jet => "v".into(),
             },
             ..Default::default()
         },
@@ -89,7 +91,9 @@ pub fn draw(
     }
     match kind {
         crate::case::SceneKind::Channel => profiles(dir, sim, reference, stresses),
-        crate::case::SceneKind::TaylorGreen | crate::case::SceneKind::Drop => Ok(()),
+        crate::case::SceneKind::TaylorGreen
+        | crate::case::SceneKind::Drop
+        | crate::case::SceneKind::Jet => Ok(()),
     }
 }
 
@@ -279,6 +283,35 @@ pub fn cylinder(
             spacing: sim.spacing,
             diverging: false,
             disc: Some(disc),
+        },
+    )
+}
+
+/// A PNG of a free-surface scene's particles coloured by tr A, cropped to the fluid's bounding
+/// box (two spacings of margin) from the plate up: `dir/name`.
+pub fn free_surface_snapshot(dir: &Path, sim: &Simulation, title: &str, name: &str) -> Result<()> {
+    let points: Vec<(f64, f64)> = sim.state.position.iter().map(|p| (p.x, p.y)).collect();
+    let trace: Vec<f64> = if sim.state.conformation.is_empty() {
+        vec![2.0; points.len()]
+    } else {
+        sim.state.conformation.iter().map(|a| a.trace()).collect()
+    };
+    let margin = 2.0 * sim.spacing;
+    let (lo, hi) = points.iter().fold(
+        ((f64::INFINITY, f64::NEG_INFINITY), f64::NEG_INFINITY),
+        |((a, b), c), p| ((a.min(p.0), b.max(p.0)), c.max(p.1)),
+    );
+    std::fs::create_dir_all(dir)?;
+    plot::draw_field(
+        &dir.join(name),
+        &plot::Field {
+            title: title.into(),
+            points: &points,
+            values: &trace,
+            extent: ((lo.0 - margin, lo.1 + margin), (0.0, hi + margin)),
+            spacing: sim.spacing,
+            diverging: false,
+            disc: None,
         },
     )
 }

@@ -170,33 +170,3 @@ impl DropProbe {
         )
     }
 }
-
-/// A PNG of the particles coloured by tr A, `trace_a_<t*>.png` in `dir`.
-pub fn trace_snapshot(dir: &Path, sim: &Simulation, probe: &DropProbe) -> Result<()> {
-    let points: Vec<(f64, f64)> = sim.state.position.iter().map(|p| (p.x, p.y)).collect();
-    let trace: Vec<f64> = if sim.state.conformation.is_empty() {
-        vec![2.0; points.len()]
-    } else {
-        sim.state.conformation.iter().map(|a| a.trace()).collect()
-    };
-    let t_star = sim.state.time * probe.speed / probe.diameter;
-    // The drop's bounding box with a margin of two spacings, from the plate up.
-    let margin = 2.0 * sim.spacing;
-    let (lo, hi) = points.iter().fold(
-        ((f64::INFINITY, f64::NEG_INFINITY), f64::NEG_INFINITY),
-        |((a, b), c), p| ((a.min(p.0), b.max(p.0)), c.max(p.1)),
-    );
-    std::fs::create_dir_all(dir)?;
-    plot::draw_field(
-        &dir.join(format!("trace_a_{t_star:07.3}.png")),
-        &plot::Field {
-            title: format!("tr A, t* = {t_star:.2}"),
-            points: &points,
-            values: &trace,
-            extent: ((lo.0 - margin, lo.1 + margin), (0.0, hi + margin)),
-            spacing: sim.spacing,
-            diverging: false,
-            disc: None,
-        },
-    )
-}

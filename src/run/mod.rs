@@ -4,6 +4,7 @@
 mod charts;
 mod drop;
 mod errors;
+mod jet;
 mod steady;
 
 pub use errors::{Errors, Peak};
@@ -84,6 +85,8 @@ pub struct Summary {
     pub steady: Option<SteadySummary>,
     /// Drops: the largest width, the final shape, and the area drift.
     pub drop: Option<DropSummary>,
+    /// Jets: impact, buckling onset and folding frequency.
+    pub jet: Option<jet::JetSummary>,
     pub version: &'static str,
     pub case: crate::case::CaseFile,
 }
@@ -127,6 +130,10 @@ pub fn resume(options: &RunOptions) -> Result<Summary> {
     let text = std::fs::read_to_string(dir.join(CASE_FILE))
         .with_context(|| format!("reading {}", dir.join(CASE_FILE).display()))?;
     let case = crate::case::parse(&text, CASE_FILE, &state.case_name, &[])?;
+    anyhow::ensure!(
+        case.scene.jet.is_none(),
+        "a jet cannot be resumed: its particle count grows and checkpoints do not record the inflow buffer"
+    );
     let mut sim = Simulation::new(scene::build(&case));
     crate::checkpoint::restore(&mut sim, &bytes[8 + json_len..])
         .with_context(|| format!("restoring {}", CHECKPOINT_FILE))?;
@@ -219,6 +226,8 @@ fn run_from(case: &Case, options: &RunOptions, resumed: Option<Resumed>) -> Resu
         d.restore(&options.out_dir, sim.state.time)?;
     }
     let drop_path = options.out_dir.join("drop.csv");
+    let mut jet_probe = case.scene.jet.map(|(d, _)| jet::JetProbe::new(d));
+    let jet_path = options.out_dir.join("jet.csv");
     // Shortened to the end of the averaging window once the flow is steady.
     let mut end_time = case.end_time;
     let mut steady_at = None;
@@ -252,6 +261,9 @@ fn run_from(case: &Case, options: &RunOptions, resumed: Option<Resumed>) -> Resu
             if let Some(d) = drop_probe.as_mut() {
                 d.record(&sim);
             }
+            if let Some(j) = jet_probe.as_mut() {
+                j.record(&sim);
+            }
             next_output += case.output_interval;
         }
     }
@@ -262,7 +274,7 @@ fn run_from(case: &Case, options: &RunOptions, resumed: Option<Resumed>) -> Resu
             case,
             &mut sim,
             true,
-            drop_pngs(options, drop_probe.as_ref()),
+            (options.charts && case.scene.has_free_surface()).then_some(options.out_dir.as_path()),
         )?;
     }
     while sim.state.time < end_time - tolerance {
@@ -291,6 +303,9 @@ fn run_from(case: &Case, options: &RunOptions, resumed: Option<Resumed>) -> Resu
             if let Some(d) = drop_probe.as_mut() {
                 d.record(&sim);
             }
+            if let Some(j) = jet_probe.as_mut() {
+                j.record(&sim);
+            }
             if let (Some(b), Some(criterion)) = (body.as_ref(), case.steady) {
                 match averages.as_mut() {
                     Some(avg) => {
@@ -318,9 +333,11 @@ fn run_from(case: &Case, options: &RunOptions, resumed: Option<Resumed>) -> Resu
                 case,
                 &mut sim,
                 false,
-                drop_pngs(options, drop_probe.as_ref()),
+                (options.charts && case.scene.has_free_surface())
+                    .then_some(options.out_dir.as_path()),
             )?;
-            if sim.state.time >= next_checkpoint - tolerance {
+            // A jet's particle count grows: its checkpoints are not supported (yet).
+            if sim.inflow.is_none() && sim.state.time >= next_checkpoint - tolerance {
                 while next_checkpoint <= sim.state.time + tolerance {
                     next_checkpoint += case.checkpoint_interval;
                 }
@@ -360,6 +377,9 @@ fn run_from(case: &Case, options: &RunOptions, resumed: Option<Resumed>) -> Resu
                 if let Some(d) = drop_probe.as_ref() {
                     io::write_atomic(&drop_path, d.csv().as_bytes())?;
                 }
+                if let Some(j) = jet_probe.as_ref() {
+                    io::write_atomic(&jet_path, j.csv().as_bytes())?;
+                }
                 sim.timers.add(Stage::Output, t0.elapsed().as_secs_f64());
                 last_flush = Instant::now();
             }
@@ -377,6 +397,9 @@ fn run_from(case: &Case, options: &RunOptions, resumed: Option<Resumed>) -> Resu
         );
         if let Some(d) = drop_probe.as_mut() {
             d.record(&sim);
+        }
+        if let Some(j) = jet_probe.as_mut() {
+            j.record(&sim);
         }
     }
     // Without a steady state the "averages" are the final state alone.
@@ -408,7 +431,7 @@ fn run_from(case: &Case, options: &RunOptions, resumed: Option<Resumed>) -> Resu
         case,
         &mut sim,
         true,
-        drop_pngs(options, drop_probe.as_ref()),
+        (options.charts && case.scene.has_free_surface()).then_some(options.out_dir.as_path()),
     )?;
     progress.finish_and_clear();
 
@@ -435,6 +458,16 @@ fn run_from(case: &Case, options: &RunOptions, resumed: Option<Resumed>) -> Resu
                     max_area_drift: d.max_area_drift(),
                 }
             })
+        }
+        None => None,
+    };
+    let jet_summary = match jet_probe.as_ref() {
+        Some(j) => {
+            io::write_atomic(&jet_path, j.csv().as_bytes())?;
+            if options.charts {
+                j.charts(&options.out_dir)?;
+            }
+            Some(j.summary(sim.spacing))
         }
         None => None,
     };
@@ -468,7 +501,7 @@ fn run_from(case: &Case, options: &RunOptions, resumed: Option<Resumed>) -> Resu
             )?;
         }
     }
-    if options.charts && body.is_none() && drop_probe.is_none() {
+    if options.charts && body.is_none() && !case.scene.has_free_surface() {
         charts::draw(
             &options.out_dir,
             case.scene.kind,
@@ -512,6 +545,7 @@ fn run_from(case: &Case, options: &RunOptions, resumed: Option<Resumed>) -> Resu
         neighbour_pairs_per_particle: sim.neighbour_pairs() as f64 / sim.particles() as f64,
         steady: steady.map(|(summary, _)| summary),
         drop: drop_summary,
+        jet: jet_summary,
         version: env!("CARGO_PKG_VERSION"),
         case: case.source.clone(),
     };
@@ -529,7 +563,7 @@ fn snapshot_due(
     case: &Case,
     sim: &mut Simulation,
     force: bool,
-    drop_pngs: Option<(&Path, &drop::DropProbe)>,
+    pngs: Option<&Path>,
 ) -> Result<()> {
     let tolerance = 1e-9 * case.end_time;
     if let Some(series) = snapshots.as_mut() {
@@ -537,8 +571,23 @@ fn snapshot_due(
         if !written && (force || sim.state.time >= *next_snapshot - tolerance) {
             let t0 = Instant::now();
             series.write(sim)?;
-            if let Some((dir, probe)) = drop_pngs {
-                drop::trace_snapshot(&dir.join("snapshots"), sim, probe)?;
+            if let Some(dir) = pngs {
+                // Drops in t* = tU/W, jets in seconds.
+                let t = sim.state.time;
+                let (title, name) = match case.scene.drop {
+                    Some((_, w)) => {
+                        let ts = t * case.scene.velocity / w;
+                        (
+                            format!("tr A, t* = {ts:.2}"),
+                            format!("trace_a_{ts:07.3}.png"),
+                        )
+                    }
+                    None => (
+                        format!("tr A, t = {t:.3} s"),
+                        format!("trace_a_t{t:.4}.png"),
+                    ),
+                };
+                charts::free_surface_snapshot(&dir.join("snapshots"), sim, &title, &name)?;
             }
             sim.timers.add(Stage::Output, t0.elapsed().as_secs_f64());
             while *next_snapshot <= sim.state.time + tolerance {
@@ -547,16 +596,6 @@ fn snapshot_due(
         }
     }
     Ok(())
-}
-
-/// Where a drop's tr A snapshots go (with the charts only).
-fn drop_pngs<'a>(
-    options: &'a RunOptions,
-    probe: Option<&'a drop::DropProbe>,
-) -> Option<(&'a Path, &'a drop::DropProbe)> {
-    probe
-        .filter(|_| options.charts)
-        .map(|p| (options.out_dir.as_path(), p))
 }
 
 /// PPE statistics over a window of steps.
