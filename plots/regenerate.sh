@@ -5,6 +5,8 @@
 # implicit viscosity is 10-20x cheaper at the same L2, see the README).
 #   plots/regenerate.sh            # everything (a few hours)
 #   plots/regenerate.sh poiseuille # the Poiseuille studies only (about 1.5 h)
+#   plots/regenerate.sh cylinders  # the cylinder array and the confined cylinder
+#   plots/regenerate.sh surfaces   # drops and jets
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo build --release
@@ -12,6 +14,8 @@ R=target/release/rheosph
 C=cases/poiseuille.toml
 I="--set scheme.viscosity=implicit --set scheme.projection=standard"
 
+part=${1:-all}
+if [ "$part" = all ] || [ "$part" = poiseuille ]; then
 # Start-up Poiseuille, Re = Wi = 1, beta = 0.1 (King & Lind Fig. 2), paper's explicit viscosity.
 $R run $C --out plots/poiseuille
 # Convergence, both frames (Fig. 4), and beta = 0 with alpha_V = 0.01 (UCM).
@@ -28,7 +32,9 @@ $R study stability $C --wi 1,4,16,32,40,64 --vary scheme.conformation=log,direct
 # What accuracy each second buys: resolutions x viscosity treatment x frame.
 $R study speed-accuracy $C --resolutions 15,30,60 --vary scheme.viscosity=explicit,implicit \
   --vary scheme.frame=lagrangian,eulerian --set run.end_time=5 --out plots/speed-accuracy
-[ "${1:-}" = "poiseuille" ] && exit 0
+fi
+
+if [ "$part" = all ] || [ "$part" = cylinders ]; then
 
 # Cylinder array (Section IV B): Stokes drag over three resolutions, then Wi = 0.2, 0.6, 0.8.
 for r in 36 54 72; do
@@ -38,3 +44,60 @@ for r in 36 54 72; do
 done
 $R study cylinder cases/cylinder-array.toml --set scene.resolution=54 --wi 0.2,0.6,0.8 \
   --out plots/cylinder-array/study-54
+$R study cylinder cases/cylinder-array.toml --set scene.resolution=72 --wi 0.2,0.6,0.8 \
+  --out plots/cylinder-array/study-72
+# The largest stable Wi, at R/dr = 9 and 13.5.
+$R study cylinder cases/cylinder-array.toml --set scene.resolution=36 --wi 1,2,4,8,16 \
+  --out plots/cylinder-array/study-36-high-wi
+$R study cylinder cases/cylinder-array.toml --set scene.resolution=54 --wi 1,2,4,8,16 \
+  --out plots/cylinder-array/study-54-high-wi
+# The confined cylinder (30R x 4R periodic, R/dr = 10) against the published drag.
+$R study cylinder cases/confined-cylinder.toml --wi 0,0.1,0.3,0.5,0.7 \
+  --reference cases/confined-cylinder-drag.csv --out plots/confined-cylinder
+fi
+
+if [ "$part" = all ] || [ "$part" = surfaces ]; then
+# Drop impact (Section IV C): Oldroyd-B, Re = 4, De = 1, beta = 0.1 at W/dr = 20, 40, 80, 120.
+D=cases/drop-impact.toml
+O=plots/drop-impact
+N="--set fluid.model=newtonian --set fluid.beta=1 --set fluid.relaxation_time=0"
+for r in 20 40 80; do $R run $D --no-snapshots --set scene.resolution=$r --out $O/res$r || true; done
+$R run $D --out $O/res120 || true
+# De from 0.5 to 1000 (lambda = De W/U) and beta at De = 5, W/dr = 40; the breakdowns are data.
+for de in 0.5 5 10 20 50 100 500 1000; do
+  $R run $D --no-snapshots --set scene.resolution=40 --set fluid.relaxation_time=$(python3 -c "print($de*0.02)") \
+    --out $O/de40/De_$de || true
+done
+$R run $D --no-snapshots --set scene.resolution=40 $N --out $O/de40/newtonian
+for b in 0.2 0.05 0.02 0.01; do
+  $R run $D --no-snapshots --set scene.resolution=40 --set fluid.relaxation_time=0.1 --set fluid.beta=$b \
+    --out $O/beta40/beta_$b || true
+done
+# Normal-stress Dirichlet pressure (35a) against p = 0, and the Newtonian drop, at W/dr = 80.
+$R run $D --no-snapshots --set scene.resolution=80 --set scheme.free_surface_pressure=zero --out $O/p-zero80
+$R run $D --no-snapshots --set scene.resolution=80 $N --out $O/newtonian80
+# Fang et al.'s drop (D/dr = 100), Oldroyd-B and Newtonian.
+$R run cases/drop-fang.toml --no-snapshots --out plots/drop-fang/oldroyd-b
+$R run cases/drop-fang.toml --no-snapshots $N --out plots/drop-fang/newtonian
+$R compare-drops $O/res20 $O/res40 $O/res80 $O/res120 --labels 'W/dr = 20,40,80,120' \
+  --title 'Oldroyd-B drop, De = 1: resolution' --out $O/resolution.png
+$R compare-drops $O/de40/newtonian $O/res40 $O/de40/De_5 $O/de40/De_20 $O/de40/De_100 $O/de40/De_1000 \
+  --labels 'Newtonian,De = 1,De = 5,De = 20,De = 100,De = 1000' --title 'Drops, W/dr = 40: De' \
+  --out $O/deborah.png
+$R compare-drops $O/res80 $O/p-zero80 $O/newtonian80 --labels 'normal stress (35a),p = 0,Newtonian' \
+  --title 'Free-surface pressure, W/dr = 80' --out $O/surface_pressure.png
+$R compare-drops plots/drop-fang/newtonian plots/drop-fang/oldroyd-b --labels 'Newtonian,Oldroyd-B' \
+  --title "Fang et al.'s drop (Re = 5, We = 1)" --out plots/drop-fang/width.png
+# Jets (Section IV D): Oldroyd-B at Wi = 1/3 ... 20/3 (lambda = Wi D/U0), the FENE models and
+# Giesekus at Wi = 10/3.
+J=cases/jet-buckling.toml
+for w in 1/3 5/3 10/3 20/3; do
+  $R run $J --set fluid.relaxation_time=$(python3 -c "print($w*0.006/0.2)") \
+    --out plots/jet-buckling/oldroyd-b/Wi_$(echo $w | tr / _) || true
+done
+for l in 10 100; do
+  $R run $J --set fluid.model=fene-p --set fluid.l2=$l --out plots/jet-buckling/fene-p/L2_$l || true
+  $R run $J --set fluid.model=fene-cr --set fluid.l2=$l --out plots/jet-buckling/fene-cr/L2_$l || true
+done
+$R run $J --set fluid.model=giesekus --set fluid.alpha=0.3 --out plots/jet-buckling/giesekus/alpha_0.3 || true
+fi

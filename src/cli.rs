@@ -29,6 +29,8 @@ pub enum Command {
     Check(CaseArgs),
     /// Overlay the final profiles of several run directories, each with its analytic curve.
     CompareProfiles(CompareArgs),
+    /// Overlay drop width W* and height H* against t* of several drop runs (their drop.csv).
+    CompareDrops(CompareDropsArgs),
     /// Time each stage of the step side by side for several sizes of the Poiseuille scene.
     Bench(BenchArgs),
     /// Run many variants of a case: convergence, stability map, speed against accuracy.
@@ -96,6 +98,9 @@ pub struct StabilityArgs {
     /// Largest time-mean L2 error (in U) of a run counted as accurate.
     #[arg(long, default_value_t = 0.1)]
     pub accuracy: f64,
+    /// Redraw `stability_map.png` from the study's `stability.csv` without running anything.
+    #[arg(long)]
+    pub replot: bool,
 }
 
 #[derive(Args, Debug)]
@@ -139,6 +144,21 @@ pub struct CompareArgs {
     #[arg(long, default_value_t = 1.0)]
     pub scale: f64,
     #[arg(long, default_value = "Final profiles")]
+    pub title: String,
+}
+
+#[derive(Args, Debug)]
+pub struct CompareDropsArgs {
+    /// Run directories of drop cases (each with drop.csv).
+    #[arg(required = true)]
+    pub runs: Vec<PathBuf>,
+    /// Curve labels, one per run (default: the directory names).
+    #[arg(long, value_delimiter = ',')]
+    pub labels: Vec<String>,
+    /// The output PNG.
+    #[arg(long, value_name = "FILE")]
+    pub out: PathBuf,
+    #[arg(long, default_value = "Drop width and height")]
     pub title: String,
 }
 
@@ -236,6 +256,10 @@ fn dispatch(cli: Cli) -> anyhow::Result<ExitCode> {
                 &args.title,
                 &args.out,
             )?;
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::CompareDrops(args) => {
+            crate::compare::compare_drops(&args.runs, &args.labels, &args.title, &args.out)?;
             Ok(ExitCode::SUCCESS)
         }
         Command::Check(args) => {

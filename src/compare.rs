@@ -1,5 +1,6 @@
-//! Overlaying the final profiles of several runs (their `profile.csv`) on one chart, each
-//! with its analytic curve: e.g. Giesekus velocity profiles for several α.
+//! Overlaying several runs on one chart: the final profiles of channel runs (their
+//! `profile.csv`, each with its analytic curve: e.g. Giesekus velocity profiles for several
+//! α), or the width and height histories of drops (their `drop.csv`).
 
 use crate::plot::{self, Chart, Curve, CurveStyle, PALETTE};
 use anyhow::{Context, Result};
@@ -104,6 +105,73 @@ pub fn compare_profiles(
             title: title.to_string(),
             x_label: "y".into(),
             y_label: format!("{:?} (lines: analytic)", field).to_lowercase(),
+            ..Default::default()
+        },
+        &curves,
+    )
+}
+
+/// (t*, W*, H*) rows of a run's `drop.csv`.
+fn read_drop(dir: &Path) -> Result<Vec<(f64, f64, f64)>> {
+    let path = dir.join("drop.csv");
+    let text =
+        std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))?;
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
+    let col = |name: &str| {
+        header
+            .iter()
+            .position(|h| *h == name)
+            .with_context(|| format!("{}: no column {name}", path.display()))
+    };
+    let (t, w, h) = (col("t_star")?, col("width_star")?, col("height_star")?);
+    lines
+        .map(|line| {
+            let v: Vec<f64> = line
+                .split(',')
+                .map(|x| x.parse::<f64>())
+                .collect::<Result<_, _>>()
+                .with_context(|| format!("{}: bad row {line}", path.display()))?;
+            Ok((v[t], v[w], v[h]))
+        })
+        .collect()
+}
+
+/// W* (solid) and H* (dashed) against t* for each run, one colour per run.
+pub fn compare_drops(runs: &[PathBuf], labels: &[String], title: &str, out: &Path) -> Result<()> {
+    anyhow::ensure!(
+        labels.is_empty() || labels.len() == runs.len(),
+        "--labels: {} labels for {} runs",
+        labels.len(),
+        runs.len()
+    );
+    let mut curves = Vec::new();
+    for (k, dir) in runs.iter().enumerate() {
+        let rows = read_drop(dir)?;
+        let label = labels.get(k).cloned().unwrap_or_else(|| {
+            dir.file_name()
+                .map_or_else(|| dir.display().to_string(), |n| n.to_string_lossy().into())
+        });
+        let color = PALETTE[k % PALETTE.len()];
+        curves.push(Curve {
+            label: format!("{label}: W*"),
+            points: rows.iter().map(|r| (r.0, r.1)).collect(),
+            style: CurveStyle::Line,
+            color,
+        });
+        curves.push(Curve {
+            label: format!("{label}: H*"),
+            points: rows.iter().map(|r| (r.0, r.2)).collect(),
+            style: CurveStyle::Dashed,
+            color,
+        });
+    }
+    plot::draw(
+        out,
+        &Chart {
+            title: title.into(),
+            x_label: "t* = tU/W".into(),
+            y_label: "W* (solid), H* (dashed)".into(),
             ..Default::default()
         },
         &curves,

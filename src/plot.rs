@@ -37,6 +37,8 @@ pub struct Chart {
     pub log_x: bool,
     /// Optional note drawn in the top-left corner (e.g. a fitted order).
     pub note: Option<String>,
+    /// Fixed y range (after the log transform), e.g. to leave room for the legend.
+    pub y_range: Option<(f64, f64)>,
 }
 
 /// A palette that survives greyscale printing reasonably.
@@ -106,7 +108,7 @@ pub fn draw(path: &Path, chart: &Chart, curves: &[Curve]) -> Result<()> {
     } else {
         0.05 * (y1 - y0)
     };
-    let (y0, y1) = (y0 - pad, y1 + pad);
+    let (y0, y1) = chart.y_range.unwrap_or((y0 - pad, y1 + pad));
 
     let file_name = path
         .file_name()
@@ -150,7 +152,7 @@ pub fn draw(path: &Path, chart: &Chart, curves: &[Curve]) -> Result<()> {
                     color.stroke_width(2),
                 ))?,
                 CurveStyle::Markers => {
-                    cc.draw_series(pts.iter().map(|&p| Circle::new(p, 2, color.filled())))?
+                    cc.draw_series(pts.iter().map(|&p| Circle::new(p, 4, color.filled())))?
                 }
             };
             if !curve.label.is_empty() {

@@ -40,6 +40,10 @@ pub fn dispatch(command: StudyCommand, quiet: bool) -> Result<()> {
         }
         StudyCommand::Stability(a) => {
             let (base, out) = base_and_out(&a.common, "stability")?;
+            if a.replot {
+                stability::replot(&out, a.accuracy)?;
+                return Ok(());
+            }
             let varies = a
                 .vary
                 .iter()

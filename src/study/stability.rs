@@ -11,7 +11,7 @@
 use super::{product, run_all, Base, Variant};
 use crate::plot::{self, Chart, Curve, CurveStyle};
 use crate::run::Outcome;
-use anyhow::Result;
+use anyhow::{Context, Result};
 use plotters::style::RGBColor;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -129,6 +129,41 @@ pub fn run(
     Ok(rows)
 }
 
+/// Redraws the map of a finished study from its `stability.csv` (variant, Wi and outcome
+/// are the first three columns; the variant labels hold no commas).
+pub fn replot(out: &Path, accuracy: f64) -> Result<()> {
+    let path = out.join("stability.csv");
+    let text =
+        std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))?;
+    let rows = text
+        .lines()
+        .skip(1)
+        .map(|line| {
+            let mut f = line.splitn(4, ',');
+            let (variant, wi, outcome) = (f.next(), f.next(), f.next());
+            let bad = || anyhow::anyhow!("{}: bad row {line}", path.display());
+            let outcome = match outcome.ok_or_else(bad)? {
+                "stable" => Result3::Stable,
+                "inaccurate" => Result3::Inaccurate,
+                "broke_down" => Result3::BrokeDown,
+                _ => return Err(bad()),
+            };
+            Ok(Row {
+                variant: variant.ok_or_else(bad)?.to_string(),
+                wi: wi.ok_or_else(bad)?.parse().map_err(|_| bad())?,
+                outcome,
+                t_breakdown: None,
+                reason: None,
+                l2_mean: None,
+                l2_final: None,
+                steps: 0,
+                wall_seconds: 0.0,
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    map(&rows, accuracy, out)
+}
+
 /// Wi on a log axis, one row per variant, coloured by outcome; the variant of each row is in
 /// the legend of its largest stable Wi.
 fn map(rows: &[Row], accuracy: f64, out: &Path) -> Result<()> {
@@ -160,18 +195,43 @@ fn map(rows: &[Row], accuracy: f64, out: &Path) -> Result<()> {
         });
     }
     for (k, name) in names.iter().enumerate() {
-        let best = rows
-            .iter()
-            .filter(|r| &r.variant == name && r.outcome == Result3::Stable)
-            .map(|r| r.wi)
-            .fold(f64::NAN, f64::max);
+        // Stable up to the first Wi that is not, and any stable Wi above it (stability need not
+        // be monotone in Wi within a fixed end time).
+        let mut runs: Vec<&Row> = rows.iter().filter(|r| &r.variant == name).collect();
+        runs.sort_by(|a, b| a.wi.total_cmp(&b.wi));
+        let first_failure = runs.iter().position(|r| r.outcome != Result3::Stable);
+        let upto = match first_failure {
+            None => format!(
+                "stable at every Wi to {}",
+                runs.last().map_or(f64::NAN, |r| r.wi)
+            ),
+            Some(0) => "not stable at any Wi".into(),
+            Some(k) => format!("stable to Wi {}", runs[k - 1].wi),
+        };
+        let again: Vec<String> = first_failure
+            .map(|k| {
+                runs[k..]
+                    .iter()
+                    .filter(|r| r.outcome == Result3::Stable)
+                    .map(|r| r.wi.to_string())
+                    .collect()
+            })
+            .unwrap_or_default();
+        let again = if again.is_empty() {
+            String::new()
+        } else {
+            format!(", again at {}", again.join(", "))
+        };
         curves.push(Curve {
-            label: format!("row {k}: {name} (largest stable Wi {best})"),
+            label: format!("row {k}: {name}: {upto}{again}"),
             points: Vec::new(),
             style: CurveStyle::Line,
             color: RGBColor(120, 120, 120),
         });
     }
+    // Room above the rows for the legend (three outcomes and one line per row).
+    let n = names.len() as f64;
+    let y_range = Some((-0.5, (n - 0.5) + 0.25 * (n + 3.0) + 0.5));
     plot::draw(
         &out.join("stability_map.png"),
         &Chart {
@@ -179,6 +239,7 @@ fn map(rows: &[Row], accuracy: f64, out: &Path) -> Result<()> {
             x_label: "Wi".into(),
             y_label: "variant (row)".into(),
             log_x: true,
+            y_range,
             ..Default::default()
         },
         &curves,
