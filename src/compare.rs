@@ -154,13 +154,13 @@ pub fn compare_drops(runs: &[PathBuf], labels: &[String], title: &str, out: &Pat
         });
         let color = PALETTE[k % PALETTE.len()];
         curves.push(Curve {
-            label: format!("{label}: W*"),
+            label,
             points: rows.iter().map(|r| (r.0, r.1)).collect(),
             style: CurveStyle::Line,
             color,
         });
         curves.push(Curve {
-            label: format!("{label}: H*"),
+            label: String::new(),
             points: rows.iter().map(|r| (r.0, r.2)).collect(),
             style: CurveStyle::Dashed,
             color,

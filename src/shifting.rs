@@ -108,7 +108,7 @@ pub fn add_repulsion(
 /// [`crate::surface::FreeSurface::region`]), not FS alone as (40) reads: the truncated support
 /// of an NS particle gives ∇C pointing inwards, so −D∇C pushes it towards the surface, where
 /// the particles pack. Measured on the Oldroyd-B drop at W/δr = 40 (t* = 3): area drift 5.6 %
-/// with FS alone, 2.2 % with the region, as Lind et al. (2012) restrict the normal shift near
+/// with FS alone, 1.9 % with the region, as Lind et al. (2012) restrict the normal shift near
 /// the surface.
 ///
 /// D is capped at the internal form h²/(4δt): explicit shifting is a diffusion of particle
