@@ -746,22 +746,23 @@ fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
             ),
         ));
     }
-    let is_drop = matches!(scene.kind, SceneKind::Drop | SceneKind::Jet);
+    // Drops and jets: free surfaces in an open box, no periodic lattice.
+    let open_scene = matches!(scene.kind, SceneKind::Drop | SceneKind::Jet);
     let dr = height / scene.resolution as f64;
     let columns = length / dr;
-    if !is_drop && (columns - columns.round()).abs() > 1e-6 * columns {
+    if !open_scene && (columns - columns.round()).abs() > 1e-6 * columns {
         return Err(field_err(
             "scene.length",
             format!("must be a whole number of particle spacings height/resolution = {dr}, got {columns:.4} spacings"),
         ));
     }
-    if !is_drop && columns.round() < (3.0 * support_in_dr).ceil() {
+    if !open_scene && columns.round() < (3.0 * support_in_dr).ceil() {
         return Err(field_err(
             "scene.length",
             format!("the periodic length must hold three kernel supports ({:.0} spacings), got {columns:.0}", (3.0 * support_in_dr).ceil()),
         ));
     }
-    let particles = if is_drop {
+    let particles = if open_scene {
         0.25 * std::f64::consts::PI * (scene.resolution as f64).powi(2)
     } else {
         columns.round() * scene.resolution as f64
@@ -1003,7 +1004,7 @@ fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
     };
 
     let s = &raw.scheme;
-    if is_drop && s.frame == FrameName::Eulerian {
+    if open_scene && s.frame == FrameName::Eulerian {
         return Err(field_err(
             "scheme.frame",
             "a free-surface flow needs moving particles: lagrangian",
@@ -1115,7 +1116,7 @@ fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
                 // Free surfaces keep the paper's projection: with the incremental one an
                 // Oldroyd-B drop (W/δr = 40) lost a contact-line particle through the plate at
                 // impact (t* = 0.54), where the standard one runs on.
-                Projection::Auto => s.viscosity == Viscosity::Implicit && !is_drop,
+                Projection::Auto => s.viscosity == Viscosity::Implicit && !open_scene,
                 Projection::Standard => false,
                 Projection::Incremental => true,
             },

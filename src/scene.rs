@@ -47,6 +47,16 @@ pub fn taylor_green_velocity(p: &Vec2, length: f64, u0: f64) -> Vec2 {
     ) * u0
 }
 
+/// The no-slip wall y = 0 with the fluid above: a channel's bottom wall, a drop's or a jet's
+/// plate.
+fn floor() -> Surface {
+    Surface::Plane(Wall {
+        axis: 1,
+        position: 0.0,
+        fluid_side: 1.0,
+    })
+}
+
 /// The initial state of a case.
 pub fn build(case: &Case) -> Setup {
     let c = &case.scene;
@@ -75,11 +85,7 @@ pub fn build(case: &Case) -> Setup {
                 max: Vec2::new(0.5 * c.length, c.height),
                 periodic: [false, false],
             },
-            walls: vec![Surface::Plane(Wall {
-                axis: 1,
-                position: 0.0,
-                fluid_side: 1.0,
-            })],
+            walls: vec![floor()],
             positions,
             velocity,
             spacing: dr,
@@ -99,11 +105,7 @@ pub fn build(case: &Case) -> Setup {
         SceneKind::Channel => (
             false,
             vec![
-                Surface::Plane(Wall {
-                    axis: 1,
-                    position: 0.0,
-                    fluid_side: 1.0,
-                }),
+                floor(),
                 Surface::Plane(Wall {
                     axis: 1,
                     position: c.height,

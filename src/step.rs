@@ -344,7 +344,7 @@ impl Simulation {
                 ws.surface.detect(&ws.list, &ws.sums, kernel);
                 // Inflow buffer particles take Dirichlet rows (p = 0) and are not near the
                 // surface themselves.
-                for (i, _) in buffer.iter().enumerate().filter(|(_, &b)| b) {
+                for i in buffered(buffer) {
                     ws.surface.on_surface[i] = true;
                     ws.surface.near_surface[i] = false;
                 }
@@ -402,7 +402,7 @@ impl Simulation {
                 }
                 (Frame::Lagrangian, false) => u_ps.iter_mut().for_each(|s| *s = Vec2::zeros()),
             }
-            for (i, _) in buffer.iter().enumerate().filter(|(_, &b)| b) {
+            for i in buffered(buffer) {
                 u_ps[i] = Vec2::zeros();
             }
         });
@@ -472,7 +472,7 @@ impl Simulation {
         if implicit {
             timers
                 .time(Stage::Viscous, || {
-                    for (i, _) in buffer.iter().enumerate().filter(|(_, &b)| b) {
+                    for i in buffered(buffer) {
                         ws.velocity_star[i] = prescribed;
                     }
                     ws.viscous.solve(
@@ -577,7 +577,7 @@ impl Simulation {
                 .par_iter_mut()
                 .zip(grad_p.par_iter())
                 .for_each(|(u, gp)| *u -= scale * gp);
-            for (i, _) in buffer.iter().enumerate().filter(|(_, &b)| b) {
+            for i in buffered(buffer) {
                 ws.velocity_star[i] = prescribed;
             }
         });
@@ -781,6 +781,15 @@ fn surface_pressure(
             .zip(state.pressure.par_iter())
             .for_each(|(p, old)| *p -= old);
     }
+}
+
+/// Indices of the inflow buffer's particles.
+fn buffered(buffer: &[bool]) -> impl Iterator<Item = usize> + '_ {
+    buffer
+        .iter()
+        .enumerate()
+        .filter(|(_, &b)| b)
+        .map(|(i, _)| i)
 }
 
 /// After step 7 (jets): buffer particles keep the rest conformation (no polymer stress

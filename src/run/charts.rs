@@ -268,11 +268,7 @@ pub fn cylinder(
             disc: Some(disc),
         },
     )?;
-    let trace: Vec<f64> = if sim.state.conformation.is_empty() {
-        vec![2.0; points.len()]
-    } else {
-        sim.state.conformation.iter().map(|a| a.trace()).collect()
-    };
+    let trace = trace_a(sim);
     plot::draw_field(
         &dir.join("field_trace_a.png"),
         &plot::Field {
@@ -291,11 +287,7 @@ pub fn cylinder(
 /// box (two spacings of margin) from the plate up: `dir/name`.
 pub fn free_surface_snapshot(dir: &Path, sim: &Simulation, title: &str, name: &str) -> Result<()> {
     let points: Vec<(f64, f64)> = sim.state.position.iter().map(|p| (p.x, p.y)).collect();
-    let trace: Vec<f64> = if sim.state.conformation.is_empty() {
-        vec![2.0; points.len()]
-    } else {
-        sim.state.conformation.iter().map(|a| a.trace()).collect()
-    };
+    let trace = trace_a(sim);
     let margin = 2.0 * sim.spacing;
     let (lo, hi) = points.iter().fold(
         ((f64::INFINITY, f64::NEG_INFINITY), f64::NEG_INFINITY),
@@ -314,4 +306,13 @@ pub fn free_surface_snapshot(dir: &Path, sim: &Simulation, title: &str, name: &s
             disc: None,
         },
     )
+}
+
+/// tr A of every particle (2, the rest state, for a Newtonian fluid).
+fn trace_a(sim: &Simulation) -> Vec<f64> {
+    if sim.state.conformation.is_empty() {
+        vec![2.0; sim.particles()]
+    } else {
+        sim.state.conformation.iter().map(|a| a.trace()).collect()
+    }
 }

@@ -13,6 +13,18 @@ use crate::step::Simulation;
 use anyhow::Result;
 use std::path::Path;
 
+/// The drop-impact summary (see `drop.csv` for the histories).
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct DropSummary {
+    pub t_star_reached: f64,
+    pub max_width_star: f64,
+    pub t_star_at_max_width: f64,
+    pub final_width_star: f64,
+    pub final_height_star: f64,
+    /// Largest |area/area(first step) − 1|.
+    pub max_area_drift: f64,
+}
+
 /// One row of `drop.csv`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DropRow {
@@ -135,6 +147,24 @@ impl DropProbe {
             .map(|r| r.area_drift.abs())
             .filter(|d| d.is_finite())
             .fold(0.0, f64::max)
+    }
+
+    /// The summary of the rows so far (None before the first row).
+    pub fn summary(&self) -> Option<DropSummary> {
+        let last = self.rows.last()?;
+        let widest = self
+            .rows
+            .iter()
+            .max_by(|a, b| a.width.total_cmp(&b.width))
+            .unwrap_or(last);
+        Some(DropSummary {
+            t_star_reached: last.t_star,
+            max_width_star: widest.width,
+            t_star_at_max_width: widest.t_star,
+            final_width_star: last.width,
+            final_height_star: last.height,
+            max_area_drift: self.max_area_drift(),
+        })
     }
 
     /// `drop.png` (W* and H* against t*) and `drop_area.png` (area drift).

@@ -7,6 +7,7 @@ mod errors;
 mod jet;
 mod steady;
 
+pub use drop::DropSummary;
 pub use errors::{Errors, Peak};
 pub use steady::{Averages, SteadyCriterion, SteadySummary};
 
@@ -89,18 +90,6 @@ pub struct Summary {
     pub jet: Option<jet::JetSummary>,
     pub version: &'static str,
     pub case: crate::case::CaseFile,
-}
-
-/// The drop-impact summary (see `drop.csv` for the histories).
-#[derive(Clone, Debug, Serialize)]
-pub struct DropSummary {
-    pub t_star_reached: f64,
-    pub max_width_star: f64,
-    pub t_star_at_max_width: f64,
-    pub final_width_star: f64,
-    pub final_height_star: f64,
-    /// Largest |area/area(first step) − 1|.
-    pub max_area_drift: f64,
 }
 
 /// Series rows are flushed to disk at most this often (and at the end).
@@ -218,16 +207,13 @@ fn run_from(case: &Case, options: &RunOptions, resumed: Option<Resumed>) -> Resu
     let mut last_dt = 0.0;
     let tolerance = 1e-9 * case.end_time;
     let body = Body::for_case(case);
-    let mut drop_probe = case
-        .scene
-        .drop
-        .map(|(_, w)| drop::DropProbe::new(w, case.scene.velocity));
-    if let (Some(d), true) = (drop_probe.as_mut(), is_resumed) {
-        d.restore(&options.out_dir, sim.state.time)?;
+    let mut probes = Probes::for_case(case);
+    if is_resumed {
+        probes.restore(&options.out_dir, sim.state.time)?;
     }
-    let drop_path = options.out_dir.join("drop.csv");
-    let mut jet_probe = case.scene.jet.map(|(d, _)| jet::JetProbe::new(d));
-    let jet_path = options.out_dir.join("jet.csv");
+    // Where free-surface scenes draw their tr A snapshots (with the charts only).
+    let pngs =
+        (options.charts && case.scene.has_free_surface()).then_some(options.out_dir.as_path());
     // Shortened to the end of the averaging window once the flow is steady.
     let mut end_time = case.end_time;
     let mut steady_at = None;
@@ -258,12 +244,7 @@ fn run_from(case: &Case, options: &RunOptions, resumed: Option<Resumed>) -> Resu
                 0.0,
                 &mut rows,
             );
-            if let Some(d) = drop_probe.as_mut() {
-                d.record(&sim);
-            }
-            if let Some(j) = jet_probe.as_mut() {
-                j.record(&sim);
-            }
+            probes.record(&sim);
             next_output += case.output_interval;
         }
     }
@@ -274,7 +255,7 @@ fn run_from(case: &Case, options: &RunOptions, resumed: Option<Resumed>) -> Resu
             case,
             &mut sim,
             true,
-            (options.charts && case.scene.has_free_surface()).then_some(options.out_dir.as_path()),
+            pngs,
         )?;
     }
     while sim.state.time < end_time - tolerance {
@@ -300,12 +281,7 @@ fn run_from(case: &Case, options: &RunOptions, resumed: Option<Resumed>) -> Resu
                 last_dt,
                 &mut rows,
             );
-            if let Some(d) = drop_probe.as_mut() {
-                d.record(&sim);
-            }
-            if let Some(j) = jet_probe.as_mut() {
-                j.record(&sim);
-            }
+            probes.record(&sim);
             if let (Some(b), Some(criterion)) = (body.as_ref(), case.steady) {
                 match averages.as_mut() {
                     Some(avg) => {
@@ -343,9 +319,7 @@ fn run_from(case: &Case, options: &RunOptions, resumed: Option<Resumed>) -> Resu
                 }
                 let t0 = Instant::now();
                 io::write_atomic(&series_path, io::series_csv(&rows).as_bytes())?;
-                if let Some(d) = drop_probe.as_ref() {
-                    io::write_atomic(&drop_path, d.csv().as_bytes())?;
-                }
+                probes.write(&options.out_dir)?;
                 let state = LoopState {
                     case_name: case.name.clone(),
                     next_output,
@@ -374,12 +348,7 @@ fn run_from(case: &Case, options: &RunOptions, resumed: Option<Resumed>) -> Resu
             if last_flush.elapsed() >= FLUSH_INTERVAL {
                 let t0 = Instant::now();
                 io::write_atomic(&series_path, io::series_csv(&rows).as_bytes())?;
-                if let Some(d) = drop_probe.as_ref() {
-                    io::write_atomic(&drop_path, d.csv().as_bytes())?;
-                }
-                if let Some(j) = jet_probe.as_ref() {
-                    io::write_atomic(&jet_path, j.csv().as_bytes())?;
-                }
+                probes.write(&options.out_dir)?;
                 sim.timers.add(Stage::Output, t0.elapsed().as_secs_f64());
                 last_flush = Instant::now();
             }
@@ -395,12 +364,7 @@ fn run_from(case: &Case, options: &RunOptions, resumed: Option<Resumed>) -> Resu
             last_dt,
             &mut rows,
         );
-        if let Some(d) = drop_probe.as_mut() {
-            d.record(&sim);
-        }
-        if let Some(j) = jet_probe.as_mut() {
-            j.record(&sim);
-        }
+        probes.record(&sim);
     }
     // Without a steady state the "averages" are the final state alone.
     let steady = body.as_ref().map(|b| {
@@ -431,46 +395,18 @@ fn run_from(case: &Case, options: &RunOptions, resumed: Option<Resumed>) -> Resu
         case,
         &mut sim,
         true,
-        (options.charts && case.scene.has_free_surface()).then_some(options.out_dir.as_path()),
+        pngs,
     )?;
     progress.finish_and_clear();
 
     let t0 = Instant::now();
     io::write_atomic(&series_path, io::series_csv(&rows).as_bytes())?;
-    let drop_summary = match drop_probe.as_ref() {
-        Some(d) => {
-            io::write_atomic(&drop_path, d.csv().as_bytes())?;
-            if options.charts {
-                d.charts(&options.out_dir)?;
-            }
-            d.rows.last().map(|last| {
-                let widest = d
-                    .rows
-                    .iter()
-                    .max_by(|a, b| a.width.total_cmp(&b.width))
-                    .unwrap_or(last);
-                DropSummary {
-                    t_star_reached: last.t_star,
-                    max_width_star: widest.width,
-                    t_star_at_max_width: widest.t_star,
-                    final_width_star: last.width,
-                    final_height_star: last.height,
-                    max_area_drift: d.max_area_drift(),
-                }
-            })
-        }
-        None => None,
-    };
-    let jet_summary = match jet_probe.as_ref() {
-        Some(j) => {
-            io::write_atomic(&jet_path, j.csv().as_bytes())?;
-            if options.charts {
-                j.charts(&options.out_dir)?;
-            }
-            Some(j.summary(sim.spacing))
-        }
-        None => None,
-    };
+    probes.write(&options.out_dir)?;
+    if options.charts {
+        probes.charts(&options.out_dir)?;
+    }
+    let drop_summary = probes.drop.as_ref().and_then(|d| d.summary());
+    let jet_summary = probes.jet.as_ref().map(|j| j.summary(sim.spacing));
     let (errors, stresses) = errors::final_errors(
         &sim,
         reference.as_mut().map_err(|e| e.as_str()),
@@ -596,6 +532,63 @@ fn snapshot_due(
         }
     }
     Ok(())
+}
+
+/// The free-surface probes of a run: a drop's shape or a jet's buckling, recorded with every
+/// series row and written beside `series.csv`.
+struct Probes {
+    drop: Option<drop::DropProbe>,
+    jet: Option<jet::JetProbe>,
+}
+
+impl Probes {
+    fn for_case(case: &Case) -> Self {
+        Self {
+            drop: case
+                .scene
+                .drop
+                .map(|(_, w)| drop::DropProbe::new(w, case.scene.velocity)),
+            jet: case.scene.jet.map(|(d, _)| jet::JetProbe::new(d)),
+        }
+    }
+
+    /// A resumed run's rows up to time `t`.
+    fn restore(&mut self, dir: &Path, t: f64) -> Result<()> {
+        match self.drop.as_mut() {
+            Some(d) => d.restore(dir, t),
+            None => Ok(()),
+        }
+    }
+
+    fn record(&mut self, sim: &Simulation) {
+        if let Some(d) = self.drop.as_mut() {
+            d.record(sim);
+        }
+        if let Some(j) = self.jet.as_mut() {
+            j.record(sim);
+        }
+    }
+
+    /// `drop.csv` / `jet.csv`, atomically.
+    fn write(&self, dir: &Path) -> Result<()> {
+        if let Some(d) = self.drop.as_ref() {
+            io::write_atomic(&dir.join("drop.csv"), d.csv().as_bytes())?;
+        }
+        if let Some(j) = self.jet.as_ref() {
+            io::write_atomic(&dir.join("jet.csv"), j.csv().as_bytes())?;
+        }
+        Ok(())
+    }
+
+    fn charts(&self, dir: &Path) -> Result<()> {
+        if let Some(d) = self.drop.as_ref() {
+            d.charts(dir)?;
+        }
+        if let Some(j) = self.jet.as_ref() {
+            j.charts(dir)?;
+        }
+        Ok(())
+    }
 }
 
 /// PPE statistics over a window of steps.
