@@ -1,5 +1,5 @@
 use clap::Parser;
 
 fn main() -> std::process::ExitCode {
-    rheosph::cli::main(rheosph::cli::Cli::parse())
+    rheosph::app::cli::main(rheosph::app::cli::Cli::parse())
 }

@@ -5,10 +5,10 @@
 
 mod common;
 use common::poiseuille;
-use rheosph::case::{self, Case};
-use rheosph::checkpoint::{self, CheckpointError};
-use rheosph::scene;
-use rheosph::step::{Simulation, State, REORDER_INTERVAL};
+use rheosph::app::checkpoint::{self, CheckpointError};
+use rheosph::engine::step::{Simulation, State, REORDER_INTERVAL};
+use rheosph::setup::case::{self, Case};
+use rheosph::setup::scene;
 use std::path::Path;
 
 /// Checkpoint before a Morton reordering (step 50), stop after it.
@@ -30,7 +30,7 @@ fn assert_identical(a: &State, b: &State, label: &str) {
     assert_eq!(a.steps, b.steps, "{label}: steps");
     assert_eq!(a.time.to_bits(), b.time.to_bits(), "{label}: time");
     let bits = |s: &State| {
-        let vec2 = |v: &[rheosph::math::Vec2]| -> Vec<u64> {
+        let vec2 = |v: &[rheosph::engine::math::Vec2]| -> Vec<u64> {
             v.iter()
                 .flat_map(|u| [u.x.to_bits(), u.y.to_bits()])
                 .collect()

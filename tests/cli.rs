@@ -43,7 +43,7 @@ fn run_writes_series_summary_and_charts() {
         "run.output_interval=0.01",
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let rows = rheosph::io::read_series(&out.join("series.csv")).unwrap();
+    let rows = rheosph::app::io::read_series(&out.join("series.csv")).unwrap();
     assert!(rows.len() > 10);
     assert!(rows
         .iter()
@@ -247,7 +247,7 @@ fn forced_blow_up_is_recorded_not_crashed() {
     assert!(summary["reason"].as_str().is_some_and(|r| !r.is_empty()));
     let t = summary["t_reached"].as_f64().unwrap();
     assert!(t > 0.0 && t < 2.0);
-    let rows = rheosph::io::read_series(&out.join("series.csv")).unwrap();
+    let rows = rheosph::app::io::read_series(&out.join("series.csv")).unwrap();
     assert!(!rows.is_empty());
     assert!(is_png(&out.join("centre_velocity.png")));
 }

@@ -3,7 +3,7 @@
 
 mod common;
 use common::poiseuille;
-use rheosph::run::{run, RunOptions};
+use rheosph::app::run::{run, RunOptions};
 
 fn series_with_threads(threads: usize, extra: &[&str]) -> String {
     let mut overrides = vec![

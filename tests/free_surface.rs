@@ -2,10 +2,10 @@
 //! area. (Detection on a square and a disc, disc normals and the Dirichlet pressure (35a) are
 //! unit tests in `src/surface.rs`.)
 
-use rheosph::case;
-use rheosph::math::Vec2;
-use rheosph::scene;
-use rheosph::step::Simulation;
+use rheosph::engine::math::Vec2;
+use rheosph::engine::step::Simulation;
+use rheosph::setup::case;
+use rheosph::setup::scene;
 use std::path::Path;
 use std::process::Command;
 

@@ -1,10 +1,10 @@
 //! The jet's inflow: fluid enters at exactly the prescribed flux, and a jet falling onto a
 //! plate stays symmetric until it buckles.
 
-use rheosph::case;
-use rheosph::inflow::BUFFER_ROWS;
-use rheosph::scene;
-use rheosph::step::Simulation;
+use rheosph::engine::boundary::inflow::BUFFER_ROWS;
+use rheosph::engine::step::Simulation;
+use rheosph::setup::case;
+use rheosph::setup::scene;
 use std::path::Path;
 
 /// A coarse jet (D/δr = 10, U0 = 0.2 m/s) run for 0.05 s: one row of D/δr particles enters

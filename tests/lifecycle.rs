@@ -3,7 +3,7 @@
 
 mod common;
 use common::poiseuille;
-use rheosph::{case, scene, step::Simulation};
+use rheosph::{engine::step::Simulation, setup::case, setup::scene};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::Duration;
@@ -54,7 +54,7 @@ fn vtu_snapshot_round_trips_through_a_vtk_reader() {
     }
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("s.vtu");
-    std::fs::write(&path, rheosph::vtk::snapshot(&sim).unwrap()).unwrap();
+    std::fs::write(&path, rheosph::app::vtk::snapshot(&sim).unwrap()).unwrap();
     let vtk = vtkio::Vtk::import(&path).expect("vtkio reads our .vtu");
     let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
         panic!("not an unstructured grid")
@@ -96,7 +96,7 @@ fn vtu_snapshot_round_trips_through_a_vtk_reader() {
 /// listed in snapshots.pvd.
 fn assert_readable(dir: &Path) {
     if dir.join("series.csv").exists() {
-        rheosph::io::read_series(&dir.join("series.csv")).expect("series.csv parses");
+        rheosph::app::io::read_series(&dir.join("series.csv")).expect("series.csv parses");
     }
     if dir.join("summary.json").exists() {
         let text = std::fs::read_to_string(dir.join("summary.json")).unwrap();

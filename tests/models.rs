@@ -7,10 +7,10 @@
 
 mod common;
 use common::run_quiet;
-use rheosph::case;
-use rheosph::run::Outcome;
+use rheosph::app::run::Outcome;
+use rheosph::setup::case;
 
-fn coarse(file: &str, overrides: &[&str]) -> rheosph::run::Summary {
+fn coarse(file: &str, overrides: &[&str]) -> rheosph::app::run::Summary {
     let text = std::fs::read_to_string(format!("cases/{file}.toml")).unwrap();
     let mut o: Vec<String> = vec!["scene.resolution=15".into(), "run.end_time=5".into()];
     o.extend(overrides.iter().map(|s| s.to_string()));

@@ -3,7 +3,7 @@
 
 mod common;
 use common::{poiseuille, run_quiet};
-use rheosph::run::Outcome;
+use rheosph::app::run::Outcome;
 
 /// Oldroyd-B, Re = Wi = 1, β = 0.1 at H/δr = 15 through the first overshoot (t ≈ 0.55) and
 /// undershoot (t ≈ 1.6). Measured: time-mean L2 error 4.5 %, overshoot peak within 1.3 %.

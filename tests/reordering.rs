@@ -4,9 +4,9 @@
 
 mod common;
 use common::{poiseuille, run_quiet};
-use rheosph::io::read_series;
+use rheosph::app::io::read_series;
 
-fn series(reorder: bool) -> Vec<rheosph::io::SeriesRow> {
+fn series(reorder: bool) -> Vec<rheosph::app::io::SeriesRow> {
     let case = poiseuille(&[
         "scene.resolution=15",
         "run.end_time=1",

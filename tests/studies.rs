@@ -1,7 +1,7 @@
 //! Studies end to end at a coarse, short scale: their CSV and PNG files exist and parse, and
 //! a forced breakdown is a row of data, not a crash.
 
-use rheosph::study::{self, Base};
+use rheosph::app::study::{self, Base};
 use std::path::PathBuf;
 
 fn base(sets: &[&str]) -> Base {

@@ -10,8 +10,8 @@
 
 mod common;
 use common::poiseuille;
-use rheosph::scene;
-use rheosph::step::Simulation;
+use rheosph::engine::step::Simulation;
+use rheosph::setup::scene;
 
 /// Analytic steady wall shear stress (1 − β)ρgH/2 of the shipped case with β = 0.1.
 const EXACT_WALL_STRESS: f64 = 0.9 * 8.0 / 2.0;

@@ -1,8 +1,8 @@
 //! Shared helpers of the integration tests.
 #![allow(dead_code)]
 
-use rheosph::case::{self, Case};
-use rheosph::run::{self, RunOptions, Summary};
+use rheosph::app::run::{self, RunOptions, Summary};
+use rheosph::setup::case::{self, Case};
 use std::path::PathBuf;
 
 pub const POISEUILLE: &str = include_str!("../../cases/poiseuille.toml");

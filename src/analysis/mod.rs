@@ -1,0 +1,8 @@
+//! Analysis: analytic reference solutions, diagnostics of a particle state, forces on bodies,
+//! centre-line profiles. Reads the engine; knows nothing of runs or output formats.
+
+pub mod analytic;
+pub mod centreline;
+pub mod diagnostics;
+pub mod forces;
+pub mod reference;

@@ -1,0 +1,281 @@
+//! Checkpoints: the state of a [`Simulation`] in a small binary file from which a run continues
+//! bit-identically to one never interrupted.
+//!
+//! A step depends on nothing but [`State`] and caches that are rebuilt deterministically from
+//! it: the Morton reordering is due by step count, the PPE and implicit viscous solves are
+//! warm-started from `pressure` and `velocity`, BiCGStab re-initialises every work vector,
+//! and the neighbour lists, kernel sums, matrices and LU factors are recomputed from the
+//! positions (an Eulerian run rebuilds its fixed lists and refactorises once after a restore).
+//!
+//! Format, version 1, all numbers little-endian, f64 as raw IEEE bits:
+//!
+//! ```text
+//!     magic      9 bytes  "RHEOSPHCK"
+//!     version    u32      1
+//!     flags      u32      bit 0: conformation stored; bit 1: Eulerian frame
+//!     particles  u64      n
+//!     spacing    f64      δr
+//!     time       f64
+//!     steps      u64
+//!     position        n × (x, y)
+//!     velocity        n × (x, y)
+//!     pressure        n × p
+//!     conformation    n × (xx, xy, yy), present with flag bit 0
+//!     shift_velocity  n × (x, y)
+//!     checksum   u64      FNV-1a of every preceding byte
+//! ```
+
+use crate::engine::math::{Sym2, Vec2};
+use crate::engine::step::{Simulation, State};
+use crate::setup::case::Frame;
+use std::path::Path;
+
+/// The first bytes of every checkpoint.
+pub const MAGIC: &[u8; 9] = b"RHEOSPHCK";
+/// The format version written by [`encode`].
+pub const VERSION: u32 = 1;
+
+const FLAG_CONFORMATION: u32 = 1;
+const FLAG_EULERIAN: u32 = 2;
+const KNOWN_FLAGS: u32 = FLAG_CONFORMATION | FLAG_EULERIAN;
+/// Bytes before the particle arrays.
+const HEADER: usize = MAGIC.len() + 4 + 4 + 8 + 8 + 8 + 8;
+const CHECKSUM: usize = 8;
+
+/// Why a checkpoint could not be restored.
+#[derive(Debug, thiserror::Error)]
+pub enum CheckpointError {
+    #[error("not a rheosph checkpoint (wrong magic bytes)")]
+    Magic,
+    #[error("unsupported checkpoint version {found} (this build reads version {VERSION})")]
+    Version { found: u32 },
+    #[error("checkpoint truncated: {found} bytes, expected {expected}")]
+    Truncated { found: usize, expected: usize },
+    #[error("checkpoint has {0} unexpected trailing bytes")]
+    Trailing(usize),
+    #[error("checkpoint checksum mismatch: the file is corrupt")]
+    Checksum,
+    #[error("checkpoint does not match the simulation: {0}")]
+    Mismatch(String),
+    #[error("reading checkpoint: {0}")]
+    Io(#[from] std::io::Error),
+}
+
+/// FNV-1a, 64 bit.
+fn fnv1a(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
+        (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3)
+    })
+}
+
+fn flags_of(sim: &Simulation) -> u32 {
+    let mut flags = 0;
+    if sim.fluid.model.is_viscoelastic() {
+        flags |= FLAG_CONFORMATION;
+    }
+    if sim.scheme.frame == Frame::Eulerian {
+        flags |= FLAG_EULERIAN;
+    }
+    flags
+}
+
+/// f64 values per particle of a checkpoint with these flags.
+fn values_per_particle(flags: u32) -> usize {
+    let conformation = if flags & FLAG_CONFORMATION != 0 { 3 } else { 0 };
+    2 + 2 + 1 + conformation + 2
+}
+
+/// The checkpoint of `sim`.
+pub fn encode(sim: &Simulation) -> Vec<u8> {
+    let s = &sim.state;
+    let flags = flags_of(sim);
+    let n = s.position.len();
+    let mut out = Vec::with_capacity(HEADER + 8 * n * values_per_particle(flags) + CHECKSUM);
+    out.extend_from_slice(MAGIC);
+    out.extend_from_slice(&VERSION.to_le_bytes());
+    out.extend_from_slice(&flags.to_le_bytes());
+    out.extend_from_slice(&(n as u64).to_le_bytes());
+    out.extend_from_slice(&sim.spacing.to_le_bytes());
+    out.extend_from_slice(&s.time.to_le_bytes());
+    out.extend_from_slice(&s.steps.to_le_bytes());
+    let mut put = |v: f64| out.extend_from_slice(&v.to_le_bytes());
+    for field in [&s.position, &s.velocity] {
+        field.iter().for_each(|u| {
+            put(u.x);
+            put(u.y);
+        });
+    }
+    s.pressure.iter().for_each(|&p| put(p));
+    if flags & FLAG_CONFORMATION != 0 {
+        s.conformation.iter().for_each(|a| {
+            put(a.xx);
+            put(a.xy);
+            put(a.yy);
+        });
+    }
+    s.shift_velocity.iter().for_each(|u| {
+        put(u.x);
+        put(u.y);
+    });
+    let checksum = fnv1a(&out);
+    out.extend_from_slice(&checksum.to_le_bytes());
+    out
+}
+
+/// Little-endian reader over bytes whose length has already been checked.
+struct Reader<'a> {
+    bytes: &'a [u8],
+    at: usize,
+}
+
+impl Reader<'_> {
+    fn take<const N: usize>(&mut self) -> [u8; N] {
+        let mut a = [0; N];
+        a.copy_from_slice(&self.bytes[self.at..self.at + N]);
+        self.at += N;
+        a
+    }
+
+    fn u32(&mut self) -> u32 {
+        u32::from_le_bytes(self.take())
+    }
+
+    fn u64(&mut self) -> u64 {
+        u64::from_le_bytes(self.take())
+    }
+
+    fn f64(&mut self) -> f64 {
+        f64::from_le_bytes(self.take())
+    }
+
+    fn vec2s(&mut self, n: usize) -> Vec<Vec2> {
+        (0..n)
+            .map(|_| {
+                let x = self.f64();
+                Vec2::new(x, self.f64())
+            })
+            .collect()
+    }
+}
+
+/// Restores the checkpoint `bytes` into `sim`, a simulation built from the same case. On
+/// error `sim` is left unchanged.
+pub fn restore(sim: &mut Simulation, bytes: &[u8]) -> Result<(), CheckpointError> {
+    let magic_len = MAGIC.len().min(bytes.len());
+    if bytes[..magic_len] != MAGIC[..magic_len] {
+        return Err(CheckpointError::Magic);
+    }
+    let truncated = |expected: usize| CheckpointError::Truncated {
+        found: bytes.len(),
+        expected,
+    };
+    if bytes.len() < MAGIC.len() + 4 {
+        return Err(truncated(HEADER + CHECKSUM));
+    }
+    let mut r = Reader {
+        bytes,
+        at: MAGIC.len(),
+    };
+    let version = r.u32();
+    if version != VERSION {
+        return Err(CheckpointError::Version { found: version });
+    }
+    if bytes.len() < HEADER + CHECKSUM {
+        return Err(truncated(HEADER + CHECKSUM));
+    }
+    let flags = r.u32();
+    if flags & !KNOWN_FLAGS != 0 {
+        return Err(CheckpointError::Mismatch(format!(
+            "unknown flags {flags:#x}"
+        )));
+    }
+    let n = r.u64();
+    let expected = usize::try_from(n)
+        .ok()
+        .and_then(|n| n.checked_mul(8 * values_per_particle(flags)))
+        .and_then(|body| body.checked_add(HEADER + CHECKSUM))
+        .unwrap_or(usize::MAX);
+    if bytes.len() < expected {
+        return Err(truncated(expected));
+    }
+    if bytes.len() > expected {
+        return Err(CheckpointError::Trailing(bytes.len() - expected));
+    }
+    let (body, stored) = bytes.split_at(expected - CHECKSUM);
+    if fnv1a(body).to_le_bytes() != stored {
+        return Err(CheckpointError::Checksum);
+    }
+
+    let n = n as usize;
+    let mismatch = |m: String| Err(CheckpointError::Mismatch(m));
+    if n != sim.particles() {
+        return mismatch(format!(
+            "{n} particles stored, the simulation has {}",
+            sim.particles()
+        ));
+    }
+    let wanted = flags_of(sim);
+    if flags & FLAG_CONFORMATION != wanted & FLAG_CONFORMATION {
+        return mismatch(
+            "conformation stored for a Newtonian fluid, or missing for a viscoelastic one".into(),
+        );
+    }
+    if flags & FLAG_EULERIAN != wanted & FLAG_EULERIAN {
+        return mismatch("the frames (Lagrangian/Eulerian) differ".into());
+    }
+    let spacing = r.f64();
+    if spacing.to_bits() != sim.spacing.to_bits() {
+        return mismatch(format!(
+            "particle spacing {spacing:e} stored, the simulation has {:e}",
+            sim.spacing
+        ));
+    }
+    let time = r.f64();
+    let steps = r.u64();
+    let position = r.vec2s(n);
+    let velocity = r.vec2s(n);
+    let pressure = (0..n).map(|_| r.f64()).collect();
+    let conformation = if flags & FLAG_CONFORMATION != 0 {
+        (0..n)
+            .map(|_| {
+                let (xx, xy) = (r.f64(), r.f64());
+                Sym2 {
+                    xx,
+                    xy,
+                    yy: r.f64(),
+                }
+            })
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let shift_velocity = r.vec2s(n);
+    debug_assert_eq!(r.at, body.len());
+    sim.restore_state(State {
+        time,
+        steps,
+        position,
+        velocity,
+        pressure,
+        conformation,
+        shift_velocity,
+    });
+    Ok(())
+}
+
+/// Writes the checkpoint of `sim` to `path` atomically.
+pub fn write(path: &Path, sim: &Simulation) -> std::io::Result<()> {
+    crate::app::io::write_atomic(path, &encode(sim)).map_err(|e| {
+        let kind = e
+            .root_cause()
+            .downcast_ref::<std::io::Error>()
+            .map_or(std::io::ErrorKind::Other, |io| io.kind());
+        std::io::Error::new(kind, format!("{e:#}"))
+    })
+}
+
+/// Reads the checkpoint at `path` and restores it into `sim` (see [`restore`]).
+pub fn read(path: &Path, sim: &mut Simulation) -> Result<(), CheckpointError> {
+    let bytes = std::fs::read(path)?;
+    restore(sim, &bytes)
+}

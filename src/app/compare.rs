@@ -1,0 +1,179 @@
+//! Overlaying several runs on one chart: the final profiles of channel runs (their
+//! `profile.csv`, each with its analytic curve: e.g. Giesekus velocity profiles for several
+//! α), or the width and height histories of drops (their `drop.csv`).
+
+use crate::app::plot::{self, Chart, Curve, CurveStyle, PALETTE};
+use anyhow::{Context, Result};
+use std::path::{Path, PathBuf};
+
+/// A quantity of `profile.csv` with its analytic column.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+pub enum Field {
+    U,
+    TauXy,
+    TauXx,
+    TauYy,
+}
+
+impl Field {
+    fn columns(self) -> (&'static str, &'static str) {
+        match self {
+            Field::U => ("u", "u_exact"),
+            Field::TauXy => ("tau_xy", "tau_xy_exact"),
+            Field::TauXx => ("tau_xx", "tau_xx_exact"),
+            Field::TauYy => ("tau_yy", "tau_yy_exact"),
+        }
+    }
+}
+
+/// (y, numeric value, analytic value) of one particle.
+type ProfileRow = (f64, f64, Option<f64>);
+
+/// One run's label and rows.
+fn read_run(dir: &Path, field: Field) -> Result<(String, Vec<ProfileRow>)> {
+    let text = std::fs::read_to_string(dir.join("profile.csv"))
+        .with_context(|| format!("reading {}", dir.join("profile.csv").display()))?;
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines
+        .next()
+        .context("empty profile.csv")?
+        .split(',')
+        .collect();
+    let col = |name: &str| {
+        header
+            .iter()
+            .position(|h| *h == name)
+            .with_context(|| format!("no column {name}"))
+    };
+    let (num, ex) = field.columns();
+    let (iy, inum, iex) = (col("y")?, col(num)?, col(ex)?);
+    let mut rows = Vec::new();
+    for line in lines {
+        let f: Vec<&str> = line.split(',').collect();
+        let exact = f[iex].parse::<f64>().ok();
+        rows.push((f[iy].parse::<f64>()?, f[inum].parse::<f64>()?, exact));
+    }
+    let summary: serde_json::Value = std::fs::read_to_string(dir.join("summary.json"))
+        .ok()
+        .and_then(|t| serde_json::from_str(&t).ok())
+        .unwrap_or_default();
+    let fluid = &summary["case"]["fluid"];
+    let mut label = fluid["model"].as_str().unwrap_or("run").to_string();
+    for key in ["alpha", "l2", "epsilon"] {
+        if let Some(v) = fluid[key].as_f64() {
+            label.push_str(&format!(" {key}={v}"));
+        }
+    }
+    Ok((label, rows))
+}
+
+/// Draws `field` of every run against its analytic curve, scaled by `scale`.
+pub fn compare_profiles(
+    runs: &[PathBuf],
+    field: Field,
+    scale: f64,
+    title: &str,
+    out: &Path,
+) -> Result<()> {
+    let mut curves = Vec::new();
+    for (k, dir) in runs.iter().enumerate() {
+        let (label, mut rows) = read_run(dir, field)?;
+        let color = PALETTE[k % PALETTE.len()];
+        rows.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let exact: Vec<(f64, f64)> = rows
+            .iter()
+            .filter_map(|r| r.2.map(|e| (r.0, e / scale)))
+            .collect();
+        if !exact.is_empty() {
+            curves.push(Curve {
+                label: String::new(),
+                points: exact,
+                style: CurveStyle::Line,
+                color,
+            });
+        }
+        curves.push(Curve {
+            label,
+            points: rows.iter().map(|r| (r.0, r.1 / scale)).collect(),
+            style: CurveStyle::Markers,
+            color,
+        });
+    }
+    plot::draw(
+        out,
+        &Chart {
+            title: title.to_string(),
+            x_label: "y".into(),
+            y_label: format!("{:?} (lines: analytic)", field).to_lowercase(),
+            ..Default::default()
+        },
+        &curves,
+    )
+}
+
+/// (t*, W*, H*) rows of a run's `drop.csv`.
+fn read_drop(dir: &Path) -> Result<Vec<(f64, f64, f64)>> {
+    let path = dir.join("drop.csv");
+    let text =
+        std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))?;
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
+    let col = |name: &str| {
+        header
+            .iter()
+            .position(|h| *h == name)
+            .with_context(|| format!("{}: no column {name}", path.display()))
+    };
+    let (t, w, h) = (col("t_star")?, col("width_star")?, col("height_star")?);
+    lines
+        .map(|line| {
+            let v: Vec<f64> = line
+                .split(',')
+                .map(|x| x.parse::<f64>())
+                .collect::<Result<_, _>>()
+                .with_context(|| format!("{}: bad row {line}", path.display()))?;
+            Ok((v[t], v[w], v[h]))
+        })
+        .collect()
+}
+
+/// W* (solid) and H* (dashed) against t* for each run, one colour per run.
+pub fn compare_drops(runs: &[PathBuf], labels: &[String], title: &str, out: &Path) -> Result<()> {
+    anyhow::ensure!(
+        labels.is_empty() || labels.len() == runs.len(),
+        "--labels: {} labels for {} runs",
+        labels.len(),
+        runs.len()
+    );
+    let mut curves = Vec::new();
+    for (k, dir) in runs.iter().enumerate() {
+        let rows = read_drop(dir)?;
+        let label = labels.get(k).cloned().unwrap_or_else(|| {
+            dir.file_name()
+                .map_or_else(|| dir.display().to_string(), |n| n.to_string_lossy().into())
+        });
+        let color = PALETTE[k % PALETTE.len()];
+        curves.push(Curve {
+            label,
+            points: rows.iter().map(|r| (r.0, r.1)).collect(),
+            style: CurveStyle::Line,
+            color,
+        });
+        curves.push(Curve {
+            label: String::new(),
+            points: rows.iter().map(|r| (r.0, r.2)).collect(),
+            style: CurveStyle::Dashed,
+            color,
+        });
+    }
+    plot::draw(
+        out,
+        &Chart {
+            title: title.into(),
+            x_label: "t* = tU/W".into(),
+            y_label: "W* (solid), H* (dashed)".into(),
+            ..Default::default()
+        },
+        &curves,
+    )
+}

@@ -1,0 +1,12 @@
+//! The application: command line, run loop and run directory, studies, benchmarks, output
+//! formats and charts.
+
+pub mod bench;
+pub mod checkpoint;
+pub mod cli;
+pub mod compare;
+pub mod io;
+pub mod plot;
+pub mod run;
+pub mod study;
+pub mod vtk;

@@ -1,0 +1,320 @@
+//! The PNG charts of a run: centre-line velocity and L2 error against time, and the final
+//! profiles across the channel, each against the analytic reference where there is one.
+
+use super::errors::ExactStresses;
+use crate::analysis::reference::Reference;
+use crate::app::io::SeriesRow;
+use crate::app::plot::{self, Chart, Curve, CurveStyle, PALETTE};
+use crate::engine::step::Simulation;
+use anyhow::Result;
+use std::path::Path;
+
+fn analytic(points: Vec<(f64, f64)>) -> Curve {
+    Curve {
+        label: "analytic".into(),
+        points,
+        style: CurveStyle::Line,
+        color: PALETTE[1],
+    }
+}
+
+/// Draws every chart of the run directory.
+pub fn draw(
+    dir: &Path,
+    kind: crate::setup::case::SceneKind,
+    sim: &Simulation,
+    reference: Option<&Reference>,
+    rows: &[SeriesRow],
+    stresses: Option<&ExactStresses>,
+) -> Result<()> {
+    let mut curves = vec![Curve {
+        label: "rheosph".into(),
+        points: rows.iter().map(|r| (r.t, r.u_centre)).collect(),
+        style: CurveStyle::Dashed,
+        color: PALETTE[0],
+    }];
+    if let Some(r) = reference {
+        let label = if r.is_steady() {
+            "steady state"
+        } else {
+            "Waters & King"
+        };
+        curves.insert(
+            0,
+            Curve {
+                label: label.into(),
+                points: rows.iter().map(|r| (r.t, r.u_centre_exact)).collect(),
+                style: CurveStyle::Line,
+                color: PALETTE[1],
+            },
+        );
+    }
+    plot::draw(
+        &dir.join("centre_velocity.png"),
+        &Chart {
+            title: match kind {
+                crate::setup::case::SceneKind::Channel => {
+                    format!("Centre-line velocity ({})", sim.fluid.model.name())
+                }
+                crate::setup::case::SceneKind::TaylorGreen => "Taylor-Green amplitude".into(),
+                crate::setup::case::SceneKind::Drop | crate::setup::case::SceneKind::Jet => {
+                    "Centre-of-mass velocity".into()
+                }
+            },
+            x_label: "t".into(),
+            y_label: match kind {
+                crate::setup::case::SceneKind::Channel => "u(H/2)".into(),
+                crate::setup::case::SceneKind::TaylorGreen => "amplitude".into(),
+                crate::setup::case::SceneKind::Drop | crate::setup::case::SceneKind::Jet => {
+                    "v".into()
+                }
+            },
+            ..Default::default()
+        },
+        &curves,
+    )?;
+    if reference.is_some() {
+        plot::draw(
+            &dir.join("l2_error.png"),
+            &Chart {
+                title: "Velocity L2 error".into(),
+                x_label: "t".into(),
+                y_label: "L2 error / U".into(),
+                log_y: true,
+                ..Default::default()
+            },
+            &[Curve {
+                label: String::new(),
+                points: rows.iter().skip(1).map(|r| (r.t, r.l2_error)).collect(),
+                style: CurveStyle::Line,
+                color: PALETTE[0],
+            }],
+        )?;
+    }
+    match kind {
+        crate::setup::case::SceneKind::Channel => profiles(dir, sim, reference, stresses),
+        crate::setup::case::SceneKind::TaylorGreen
+        | crate::setup::case::SceneKind::Drop
+        | crate::setup::case::SceneKind::Jet => Ok(()),
+    }
+}
+
+/// Final profiles across the channel: every particle against the analytic line.
+fn profiles(
+    dir: &Path,
+    sim: &Simulation,
+    reference: Option<&Reference>,
+    stresses: Option<&ExactStresses>,
+) -> Result<()> {
+    let s = &sim.state;
+    let height = sim.domain.max.y - sim.domain.min.y;
+    let profile =
+        |name: &str, label: &str, numeric: Vec<(f64, f64)>, exact: Option<Vec<(f64, f64)>>| {
+            let mut curves = Vec::new();
+            if let Some(points) = exact {
+                curves.push(analytic(points));
+            }
+            curves.push(Curve {
+                label: "particles".into(),
+                points: numeric,
+                style: CurveStyle::Markers,
+                color: PALETTE[0],
+            });
+            plot::draw(
+                &dir.join(name),
+                &Chart {
+                    title: format!("{label} across the channel at t = {:.3}", s.time),
+                    x_label: "y".into(),
+                    y_label: label.into(),
+                    ..Default::default()
+                },
+                &curves,
+            )
+        };
+    let ys: Vec<f64> = (0..=200).map(|k| height * k as f64 / 200.0).collect();
+    let exact_u = reference.map(|r| {
+        ys.iter()
+            .copied()
+            .zip(r.velocity_profile(&ys, s.time))
+            .collect()
+    });
+    profile(
+        "profile_velocity.png",
+        "u",
+        s.position
+            .iter()
+            .zip(&s.velocity)
+            .map(|(p, u)| (p.y, u.x))
+            .collect(),
+        exact_u,
+    )?;
+    if !sim.fluid.model.is_viscoelastic() {
+        return Ok(());
+    }
+    let tau = sim.polymer_stress();
+    let exact = |values: fn(&ExactStresses) -> &Vec<f64>| {
+        stresses.map(|e| {
+            e.grid
+                .iter()
+                .copied()
+                .zip(values(e).iter().copied())
+                .collect()
+        })
+    };
+    let numeric = |f: fn(&crate::engine::math::Sym2) -> f64| -> Vec<(f64, f64)> {
+        s.position
+            .iter()
+            .zip(&tau)
+            .map(|(p, t)| (p.y, f(t)))
+            .collect()
+    };
+    profile(
+        "profile_tau_xy.png",
+        "tau_p,xy",
+        numeric(|t| t.xy),
+        exact(|e| &e.profiles.xy),
+    )?;
+    profile(
+        "profile_tau_xx.png",
+        "tau_p,xx",
+        numeric(|t| t.xx),
+        exact(|e| &e.profiles.xx),
+    )?;
+    if matches!(sim.fluid.model, crate::engine::rheology::Model::Giesekus(_)) {
+        profile(
+            "profile_tau_yy.png",
+            "tau_p,yy",
+            numeric(|t| t.yy),
+            exact(|e| &e.profiles.yy),
+        )?;
+    }
+    Ok(())
+}
+
+/// The charts of a channel with a cylinder: ⟨u⟩ and K against time, the averaged centre-line
+/// profiles (`profile` rows: s, u/⟨u⟩, τ_xx/(η_s⟨u⟩/R), det A), and the final vorticity and
+/// tr A fields.
+pub fn cylinder(
+    dir: &Path,
+    sim: &Simulation,
+    rows: &[SeriesRow],
+    profile: &[[f64; 4]],
+    disc: ((f64, f64), f64),
+) -> Result<()> {
+    let line = |points: Vec<(f64, f64)>| Curve {
+        label: String::new(),
+        points,
+        style: CurveStyle::Line,
+        color: PALETTE[0],
+    };
+    let time_chart = |name: &str, title: &str, y: &str, f: &dyn Fn(&SeriesRow) -> f64| {
+        plot::draw(
+            &dir.join(name),
+            &Chart {
+                title: title.into(),
+                x_label: "t".into(),
+                y_label: y.into(),
+                ..Default::default()
+            },
+            &[line(rows.iter().skip(1).map(|r| (r.t, f(r))).collect())],
+        )
+    };
+    time_chart("u_mean.png", "Bulk velocity <u> = Q/H", "<u>", &|r| {
+        r.u_mean
+    })?;
+    time_chart(
+        "drag.png",
+        "Drag coefficient K = F_x/(eta0 <u>)",
+        "K",
+        &|r| r.drag_k,
+    )?;
+    for (k, name, title, y) in [
+        (
+            1,
+            "centreline_u.png",
+            "Centre-line velocity between cylinders",
+            "u/<u>",
+        ),
+        (
+            2,
+            "centreline_tau_xx.png",
+            "Centre-line polymer stress",
+            "tau_xx/(eta_s <u>/R)",
+        ),
+        (3, "centreline_det_a.png", "Centre-line det A", "det A"),
+    ] {
+        plot::draw(
+            &dir.join(name),
+            &Chart {
+                title: title.into(),
+                x_label: "s (0: downstream edge of a cylinder)".into(),
+                y_label: y.into(),
+                ..Default::default()
+            },
+            &[line(profile.iter().map(|p| (p[0], p[k])).collect())],
+        )?;
+    }
+    let points: Vec<(f64, f64)> = sim.state.position.iter().map(|p| (p.x, p.y)).collect();
+    let extent = sim.domain.size();
+    let extent = ((0.0, extent.x), (0.0, extent.y));
+    let t = sim.state.time;
+    plot::draw_field(
+        &dir.join("field_vorticity.png"),
+        &plot::Field {
+            title: format!("Vorticity, t = {t:.3}"),
+            points: &points,
+            values: &sim.vorticity(),
+            extent,
+            spacing: sim.spacing,
+            diverging: true,
+            disc: Some(disc),
+        },
+    )?;
+    let trace = trace_a(sim);
+    plot::draw_field(
+        &dir.join("field_trace_a.png"),
+        &plot::Field {
+            title: format!("tr A, t = {t:.3}"),
+            points: &points,
+            values: &trace,
+            extent,
+            spacing: sim.spacing,
+            diverging: false,
+            disc: Some(disc),
+        },
+    )
+}
+
+/// A PNG of a free-surface scene's particles coloured by tr A, cropped to the fluid's bounding
+/// box (two spacings of margin) from the plate up: `dir/name`.
+pub fn free_surface_snapshot(dir: &Path, sim: &Simulation, title: &str, name: &str) -> Result<()> {
+    let points: Vec<(f64, f64)> = sim.state.position.iter().map(|p| (p.x, p.y)).collect();
+    let trace = trace_a(sim);
+    let margin = 2.0 * sim.spacing;
+    let (lo, hi) = points.iter().fold(
+        ((f64::INFINITY, f64::NEG_INFINITY), f64::NEG_INFINITY),
+        |((a, b), c), p| ((a.min(p.0), b.max(p.0)), c.max(p.1)),
+    );
+    std::fs::create_dir_all(dir)?;
+    plot::draw_field(
+        &dir.join(name),
+        &plot::Field {
+            title: title.into(),
+            points: &points,
+            values: &trace,
+            extent: ((lo.0 - margin, lo.1 + margin), (0.0, hi + margin)),
+            spacing: sim.spacing,
+            diverging: false,
+            disc: None,
+        },
+    )
+}
+
+/// tr A of every particle (2, the rest state, for a Newtonian fluid).
+fn trace_a(sim: &Simulation) -> Vec<f64> {
+    if sim.state.conformation.is_empty() {
+        vec![2.0; sim.particles()]
+    } else {
+        sim.state.conformation.iter().map(|a| a.trace()).collect()
+    }
+}

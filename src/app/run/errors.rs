@@ -1,0 +1,193 @@
+//! Errors of a finished run against its analytic reference.
+
+use crate::analysis::reference::{Reference, StressProfiles};
+use crate::app::io::SeriesRow;
+use crate::engine::step::Simulation;
+use serde::Serialize;
+
+/// The analytic comparison at the first overshoot of the centre-line velocity.
+#[derive(Clone, Debug, Serialize)]
+pub struct Peak {
+    pub t: f64,
+    pub u_centre_exact: f64,
+    pub u_centre: f64,
+    pub relative_error: f64,
+}
+
+/// The errors block of `summary.json`. Every value is `null` when the case has no analytic
+/// reference (see `reference_unavailable`).
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Errors {
+    /// `waters-king` (transient) or `steady-channel` (compared at the end).
+    pub reference: Option<&'static str>,
+    /// Why there is no reference, if there is none.
+    pub reference_unavailable: Option<String>,
+    /// Mean over the rows of series.csv (uniform in time) of the velocity L2 error / U.
+    pub l2_time_mean: Option<f64>,
+    pub l2_final: Option<f64>,
+    pub l2_max: Option<f64>,
+    /// ‖u − u_exact‖/‖u_exact‖ over the particles at the end (streamwise for a channel).
+    pub u_relative_l2: Option<f64>,
+    pub u_centre_final: f64,
+    pub u_centre_exact_final: Option<f64>,
+    pub u_centre_final_relative_error: Option<f64>,
+    /// First local maximum of the analytic centre-line velocity (none for a monotone
+    /// start-up or a steady reference).
+    pub first_overshoot: Option<Peak>,
+    /// ‖τ − τ_exact‖/‖τ_exact‖ of the polymer stresses at the end, against the analytic
+    /// profiles at the stress time t − δt/2; `null` where the exact component vanishes.
+    pub tau_xy_relative_l2: Option<f64>,
+    pub tau_xx_relative_l2: Option<f64>,
+    pub tau_yy_relative_l2: Option<f64>,
+}
+
+fn relative(a: f64, b: f64) -> f64 {
+    if b != 0.0 {
+        (a - b).abs() / b.abs()
+    } else {
+        (a - b).abs()
+    }
+}
+
+/// Exact polymer stress profiles at the stress time t − δt/2 (§III B), on a grid of heights
+/// and interpolated to the particles: τ_xx of the start-up needs a time integration per
+/// height, so it is not evaluated particle by particle.
+pub struct ExactStresses {
+    pub grid: Vec<f64>,
+    pub profiles: StressProfiles,
+}
+
+impl ExactStresses {
+    pub fn at_stress_time(sim: &Simulation, reference: &Reference, dt: f64) -> Option<Self> {
+        if !sim.fluid.model.is_viscoelastic() || !reference.is_channel() {
+            return None;
+        }
+        let t = (sim.state.time - 0.5 * dt).max(0.0);
+        let height = sim.domain.max.y - sim.domain.min.y;
+        let grid: Vec<f64> = (0..=100).map(|k| height * k as f64 / 100.0).collect();
+        let profiles = reference.stress_profiles(&grid, t).ok()?;
+        Some(Self { grid, profiles })
+    }
+
+    pub fn interpolate(&self, values: &[f64], y: f64) -> f64 {
+        let g = &self.grid;
+        let step = g[1] - g[0];
+        let k = (((y - g[0]) / step).floor().max(0.0) as usize).min(g.len() - 2);
+        let w = (y - g[k]) / step;
+        values[k] * (1.0 - w) + values[k + 1] * w
+    }
+
+    /// Relative L2 errors of τ_xy, τ_xx, τ_yy over the particles.
+    fn relative_errors(&self, sim: &Simulation) -> [Option<f64>; 3] {
+        let tau = sim.polymer_stress();
+        let norm = |num: &dyn Fn(usize) -> f64, exact: &[f64]| {
+            let (mut diff, mut base) = (0.0, 0.0);
+            for (i, p) in sim.state.position.iter().enumerate() {
+                let e = self.interpolate(exact, p.y);
+                diff += (num(i) - e).powi(2);
+                base += e * e;
+            }
+            (base > 1e-24 * (1.0 + diff)).then(|| (diff / base).sqrt())
+        };
+        let p = &self.profiles;
+        [
+            norm(&|i| tau[i].xy, &p.xy),
+            norm(&|i| tau[i].xx, &p.xx),
+            norm(&|i| tau[i].yy, &p.yy),
+        ]
+    }
+}
+
+/// The errors block for a run that ended in `sim`, with its series rows.
+pub fn final_errors(
+    sim: &Simulation,
+    reference: Result<&mut Reference, &str>,
+    rows: &[SeriesRow],
+    dt: f64,
+) -> (Errors, Option<ExactStresses>) {
+    let last = rows.last().copied().unwrap_or_default();
+    let reference = match reference {
+        Ok(r) => r,
+        Err(why) => {
+            let errors = Errors {
+                reference_unavailable: Some(why.to_string()),
+                u_centre_final: last.u_centre,
+                ..Default::default()
+            };
+            return (errors, None);
+        }
+    };
+    let l2: Vec<f64> = rows
+        .iter()
+        .map(|r| r.l2_error)
+        .filter(|v| v.is_finite())
+        .collect();
+    let first_overshoot = rows.windows(3).find(|w| {
+        w[1].u_centre_exact > w[0].u_centre_exact && w[1].u_centre_exact >= w[2].u_centre_exact
+    });
+    let u_relative_l2 =
+        reference.relative_l2(&sim.state.position, &sim.state.velocity, sim.state.time);
+    let stresses = ExactStresses::at_stress_time(sim, reference, dt);
+    let [tau_xy, tau_xx, tau_yy] = stresses
+        .as_ref()
+        .map_or([None; 3], |s| s.relative_errors(sim));
+    let errors = Errors {
+        reference: Some(reference.name()),
+        reference_unavailable: None,
+        l2_time_mean: (!l2.is_empty()).then(|| l2.iter().sum::<f64>() / l2.len() as f64),
+        l2_final: Some(last.l2_error),
+        l2_max: Some(l2.iter().copied().fold(0.0, f64::max)),
+        u_relative_l2,
+        u_centre_final: last.u_centre,
+        u_centre_exact_final: Some(last.u_centre_exact),
+        u_centre_final_relative_error: Some(relative(last.u_centre, last.u_centre_exact)),
+        first_overshoot: first_overshoot.map(|w| Peak {
+            t: w[1].t,
+            u_centre_exact: w[1].u_centre_exact,
+            u_centre: w[1].u_centre,
+            relative_error: relative(w[1].u_centre, w[1].u_centre_exact),
+        }),
+        tau_xy_relative_l2: tau_xy,
+        tau_xx_relative_l2: tau_xx,
+        tau_yy_relative_l2: tau_yy,
+    };
+    (errors, stresses)
+}
+
+/// `profile.csv`: every particle at the end of the run with the analytic values at its height
+/// (empty where there is no reference), for post-processing and profile comparisons.
+pub fn profile_csv(
+    sim: &Simulation,
+    reference: Option<&mut Reference>,
+    stresses: Option<&ExactStresses>,
+) -> String {
+    let s = &sim.state;
+    let mut exact_u = Vec::new();
+    let has_reference = reference.is_some();
+    if let Some(r) = reference {
+        r.velocity_at(&s.position, s.time, &mut exact_u);
+    }
+    let tau = sim.polymer_stress();
+    let mut out = String::from(
+        "x,y,u,v,u_exact,tau_xx,tau_xy,tau_yy,tau_xx_exact,tau_xy_exact,tau_yy_exact\n",
+    );
+    let blank = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:.8e}"));
+    for (i, p) in s.position.iter().enumerate() {
+        let ex = |f: fn(&ExactStresses) -> &Vec<f64>| stresses.map(|e| e.interpolate(f(e), p.y));
+        out.push_str(&format!(
+            "{:.8e},{:.8e},{:.8e},{:.8e},{},{:.8e},{:.8e},{:.8e},{},{},{}\n",
+            p.x,
+            p.y,
+            s.velocity[i].x,
+            s.velocity[i].y,
+            blank(has_reference.then(|| exact_u[i].x)),
+            tau[i].xx,
+            tau[i].xy,
+            tau[i].yy,
+            blank(ex(|e| &e.profiles.xx)),
+            blank(ex(|e| &e.profiles.xy)),
+            blank(ex(|e| &e.profiles.yy)),
+        ));
+    }
+    out
+}

@@ -1,0 +1,186 @@
+//! Steady-state detection and the averaging window after it (King & Lind §IV B): the flow is
+//! steady once the mass-flow rate (the bulk velocity ⟨u⟩) has varied by less than a relative
+//! `tolerance` over the last `window` time units; quantities are then averaged over `average`
+//! time units and the run ends.
+
+use crate::analysis::centreline::Profile;
+use crate::app::io::SeriesRow;
+use serde::{Deserialize, Serialize};
+
+pub use crate::setup::case::SteadyCriterion;
+
+impl SteadyCriterion {
+    /// The time at which the series first satisfies the criterion, looking at the rows up to
+    /// and including the last one. Rows must cover the whole window.
+    pub fn reached(&self, rows: &[SeriesRow]) -> Option<f64> {
+        let last = rows.last()?;
+        let from = last.t - self.window;
+        if from < 0.0 || rows[0].t > from + 1e-12 {
+            return None;
+        }
+        let start = rows.partition_point(|r| r.t < from - 1e-12);
+        let values = rows[start..].iter().map(|r| r.u_mean);
+        let (mut lo, mut hi, mut sum, mut n) = (f64::INFINITY, f64::NEG_INFINITY, 0.0, 0.0);
+        for v in values {
+            lo = lo.min(v);
+            hi = hi.max(v);
+            sum += v;
+            n += 1.0;
+        }
+        let mean = sum / n;
+        (n >= 2.0 && mean.abs() > 0.0 && (hi - lo) / mean.abs() < self.tolerance).then_some(last.t)
+    }
+}
+
+/// Time averages of the series and the centre-line profile.
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+pub struct Averages {
+    pub from: f64,
+    pub to: f64,
+    pub samples: usize,
+    u_mean: f64,
+    k: [f64; 4],
+    min_det_a: f64,
+    max_trace_a: f64,
+    profile: Profile,
+}
+
+impl Averages {
+    pub fn new(from: f64) -> Self {
+        Self {
+            from,
+            to: from,
+            // Finite sentinels: the averages are saved in checkpoints as JSON.
+            min_det_a: f64::MAX,
+            max_trace_a: f64::MIN,
+            ..Default::default()
+        }
+    }
+
+    /// Adds one output row and its centre-line profile.
+    pub fn add(&mut self, row: &SeriesRow, profile: &Profile) {
+        self.samples += 1;
+        self.to = row.t;
+        self.u_mean += row.u_mean;
+        for (a, v) in
+            self.k
+                .iter_mut()
+                .zip([row.drag_k, row.k_pressure, row.k_solvent, row.k_polymer])
+        {
+            *a += v;
+        }
+        self.min_det_a = self.min_det_a.min(row.min_det_a);
+        self.max_trace_a = self.max_trace_a.max(row.max_trace_a);
+        self.profile.accumulate(profile);
+    }
+
+    /// The mean centre-line profile.
+    pub fn profile(&self) -> Profile {
+        self.profile.scaled(1.0 / self.samples.max(1) as f64)
+    }
+
+    /// The mean bulk velocity.
+    pub fn u_mean(&self) -> f64 {
+        self.u_mean / self.samples.max(1) as f64
+    }
+
+    /// The summary entry; `eta_s` and `radius` scale τ_xx by η_s⟨u⟩/R.
+    pub fn summary(
+        &self,
+        reached_at: Option<f64>,
+        eta_s: f64,
+        radius: f64,
+        s: &[f64],
+    ) -> SteadySummary {
+        let n = self.samples.max(1) as f64;
+        let u = self.u_mean();
+        let profile = self.profile();
+        let scale = eta_s * u / radius;
+        let (peak_at, peak) = s.iter().zip(&profile.tau_xx).fold(
+            (f64::NAN, f64::NEG_INFINITY),
+            |(a, m), (&si, &t)| {
+                if t > m {
+                    (si, t)
+                } else {
+                    (a, m)
+                }
+            },
+        );
+        SteadySummary {
+            reached_at,
+            averaged_from: self.from,
+            averaged_to: self.to,
+            samples: self.samples,
+            u_mean: u,
+            drag_k: self.k[0] / n,
+            k_pressure: self.k[1] / n,
+            k_solvent: self.k[2] / n,
+            k_polymer: self.k[3] / n,
+            peak_tau_xx_centreline: peak / scale,
+            peak_tau_xx_at: peak_at,
+            min_det_a_centreline: profile.det_a.iter().copied().fold(f64::INFINITY, f64::min),
+            min_det_a: self.min_det_a,
+            max_trace_a: self.max_trace_a,
+        }
+    }
+}
+
+/// `summary.json`'s `steady` entry (runs with a cylinder).
+#[derive(Clone, Debug, Serialize)]
+pub struct SteadySummary {
+    /// When the criterion was met (None: not met before the end time; the averages are then
+    /// over the last `average` time units and are not steady values).
+    pub reached_at: Option<f64>,
+    pub averaged_from: f64,
+    pub averaged_to: f64,
+    pub samples: usize,
+    /// ⟨u⟩ = Q/H.
+    pub u_mean: f64,
+    /// K = F_x/(η0⟨u⟩) and its pressure, solvent and polymer parts.
+    pub drag_k: f64,
+    pub k_pressure: f64,
+    pub k_solvent: f64,
+    pub k_polymer: f64,
+    /// Largest τ_xx/(η_s⟨u⟩/R) on the centre-line between cylinders, and where (s).
+    pub peak_tau_xx_centreline: f64,
+    pub peak_tau_xx_at: f64,
+    /// Smallest det A on the centre-line profile and over all particles in the window.
+    pub min_det_a_centreline: f64,
+    pub min_det_a: f64,
+    pub max_trace_a: f64,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rows(values: &[(f64, f64)]) -> Vec<SeriesRow> {
+        values
+            .iter()
+            .map(|&(t, u)| SeriesRow {
+                t,
+                u_mean: u,
+                ..Default::default()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn steady_needs_a_full_window_below_the_tolerance() {
+        let c = SteadyCriterion {
+            tolerance: 0.02,
+            window: 1.0,
+            average: 3.0,
+        };
+        // Not a full window yet.
+        assert_eq!(c.reached(&rows(&[(0.0, 1.0), (0.5, 1.0)])), None);
+        // A 3 % swing inside the window.
+        assert_eq!(
+            c.reached(&rows(&[(0.0, 1.0), (0.5, 1.03), (1.0, 1.0)])),
+            None
+        );
+        // 1 % over the last unit; the earlier transient is outside the window.
+        let r = rows(&[(0.0, 0.2), (0.5, 1.0), (1.0, 1.01), (1.5, 1.005)]);
+        assert_eq!(c.reached(&r), Some(1.5));
+    }
+}

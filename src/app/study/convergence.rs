@@ -1,0 +1,166 @@
+//! `rheosph study convergence`: the case at several resolutions (and frames), the L2 error
+//! against time for every run on one chart, the time-mean and final L2 error against δr on
+//! log–log axes with the fitted order, and `convergence.csv`.
+
+use super::{fitted_order, run_all, Base, Finished, Variant};
+use crate::app::plot::{self, Chart, Curve, CurveStyle, PALETTE};
+use anyhow::Result;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// One line of `convergence.csv`.
+pub struct Row {
+    pub frame: String,
+    pub resolution: usize,
+    pub spacing: f64,
+    pub particles: usize,
+    pub steps: u64,
+    pub wall_seconds: f64,
+    pub l2_mean: f64,
+    pub l2_final: f64,
+    /// Order of l2_mean against the next coarser resolution of the same frame.
+    pub order: Option<f64>,
+}
+
+/// Runs the study and writes `convergence.csv`, `l2_vs_time.png`, `l2_vs_resolution.png`.
+pub fn run(
+    base: &Base,
+    resolutions: &[usize],
+    frames: &[String],
+    out: &Path,
+    jobs: usize,
+    quiet: bool,
+) -> Result<Vec<Row>> {
+    let mut variants = Vec::new();
+    for frame in frames {
+        for r in resolutions {
+            variants.push(Variant {
+                label: format!("{frame} {r}"),
+                overrides: vec![
+                    format!("scheme.frame={frame}"),
+                    format!("scene.resolution={r}"),
+                ],
+                tags: vec![("frame".into(), frame.clone())],
+            });
+        }
+    }
+    let finished = run_all(base, variants, out, jobs, quiet)?;
+    let rows = table(&finished, frames);
+    let mut csv = String::from(
+        "frame,resolution,spacing,particles,steps,wall_seconds,l2_mean,l2_final,order\n",
+    );
+    for r in &rows {
+        let _ = writeln!(
+            csv,
+            "{},{},{:.6e},{},{},{:.3},{:.6e},{:.6e},{}",
+            r.frame,
+            r.resolution,
+            r.spacing,
+            r.particles,
+            r.steps,
+            r.wall_seconds,
+            r.l2_mean,
+            r.l2_final,
+            r.order.map_or(String::new(), |o| format!("{o:.3}"))
+        );
+    }
+    crate::app::io::write_atomic(&out.join("convergence.csv"), csv.as_bytes())?;
+    charts(&finished, &rows, frames, out)?;
+    Ok(rows)
+}
+
+fn table(finished: &[Finished], frames: &[String]) -> Vec<Row> {
+    let mut rows = Vec::new();
+    for frame in frames {
+        let mut previous: Option<(f64, f64)> = None;
+        let mut runs: Vec<&Finished> = finished
+            .iter()
+            .filter(|f| {
+                f.variant
+                    .tags
+                    .iter()
+                    .any(|(k, v)| k == "frame" && v == frame)
+            })
+            .collect();
+        runs.sort_by_key(|f| f.case.scene.resolution);
+        for f in runs {
+            let s = &f.summary;
+            let spacing = f.case.scene.spacing();
+            let l2_mean = s.errors.l2_time_mean.unwrap_or(f64::NAN);
+            let order = previous.map(|(dr, l2)| (l2 / l2_mean).ln() / (dr / spacing).ln());
+            previous = Some((spacing, l2_mean));
+            rows.push(Row {
+                frame: frame.clone(),
+                resolution: f.case.scene.resolution,
+                spacing,
+                particles: s.particles,
+                steps: s.steps,
+                wall_seconds: s.wall_seconds,
+                l2_mean,
+                l2_final: s.errors.l2_final.unwrap_or(f64::NAN),
+                order,
+            });
+        }
+    }
+    rows
+}
+
+fn charts(finished: &[Finished], rows: &[Row], frames: &[String], out: &Path) -> Result<()> {
+    let mut curves = Vec::new();
+    for (k, f) in finished.iter().enumerate() {
+        let eulerian = f.variant.tags.iter().any(|(_, v)| v == "eulerian");
+        curves.push(Curve {
+            label: f.variant.label.clone(),
+            points: f.series.iter().skip(1).map(|r| (r.t, r.l2_error)).collect(),
+            style: if eulerian {
+                CurveStyle::Dashed
+            } else {
+                CurveStyle::Line
+            },
+            color: PALETTE[k % PALETTE.len()],
+        });
+    }
+    plot::draw(
+        &out.join("l2_vs_time.png"),
+        &Chart {
+            title: "Velocity L2 error against time".into(),
+            x_label: "t".into(),
+            y_label: "L2 error / U".into(),
+            log_y: true,
+            ..Default::default()
+        },
+        &curves,
+    )?;
+    let mut curves = Vec::new();
+    for (k, frame) in frames.iter().enumerate() {
+        let pts: Vec<&Row> = rows.iter().filter(|r| &r.frame == frame).collect();
+        let mean: Vec<(f64, f64)> = pts.iter().map(|r| (r.spacing, r.l2_mean)).collect();
+        let last: Vec<(f64, f64)> = pts.iter().map(|r| (r.spacing, r.l2_final)).collect();
+        let order =
+            |p: &[(f64, f64)]| fitted_order(p).map_or("-".to_string(), |o| format!("{o:.2}"));
+        curves.push(Curve {
+            label: format!("{frame}, time mean: order {}", order(&mean)),
+            points: mean,
+            style: CurveStyle::Line,
+            color: PALETTE[2 * k % PALETTE.len()],
+        });
+        curves.push(Curve {
+            label: format!("{frame}, final: order {}", order(&last)),
+            points: last,
+            style: CurveStyle::Dashed,
+            color: PALETTE[(2 * k + 1) % PALETTE.len()],
+        });
+    }
+    plot::draw(
+        &out.join("l2_vs_resolution.png"),
+        &Chart {
+            title: "Convergence of the velocity L2 error".into(),
+            x_label: "dr / H".into(),
+            y_label: "L2 error / U".into(),
+            log_x: true,
+            log_y: true,
+            ..Default::default()
+        },
+        &curves,
+    )
+}

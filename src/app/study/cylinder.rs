@@ -1,0 +1,203 @@
+//! `rheosph study cylinder`: a channel with a cylinder over a range of Weissenberg numbers
+//! (λ = Wi·R/⟨u⟩), each run to steady state and averaged (`[run.steady]`). Writes
+//! `cylinder.csv` (one line per Wi), the centre-line profiles of all runs overlaid
+//! (u/⟨u⟩, τ_xx/(η_s⟨u⟩/R), det A) and K against Wi, beside published values if given.
+
+use super::{run_all, Base, Variant};
+use crate::app::plot::{self, Chart, Curve, CurveStyle, PALETTE};
+use anyhow::{Context, Result};
+use plotters::style::RGBColor;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// One line of `cylinder.csv`.
+#[derive(Clone, Debug)]
+pub struct Row {
+    pub wi: f64,
+    pub outcome: String,
+    pub t_reached: f64,
+    pub steady_at: Option<f64>,
+    pub u_mean: f64,
+    pub drag_k: f64,
+    pub k_parts: [f64; 3],
+    pub peak_tau_xx: f64,
+    pub min_det_a: f64,
+    pub particles: usize,
+    pub steps: u64,
+    pub wall_seconds: f64,
+}
+
+/// Published (Wi, K) pairs from a CSV with a header and columns `wi,k` (extra columns and
+/// `#` comment lines are ignored).
+pub fn read_reference(path: &Path) -> Result<Vec<(f64, f64)>> {
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+    let mut out = Vec::new();
+    for (n, line) in text
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| !l.trim_start().starts_with('#'))
+        .skip(1)
+    {
+        let f: Vec<&str> = line.split(',').map(str::trim).collect();
+        let parse = |k: usize| -> Result<f64> {
+            f.get(k)
+                .and_then(|v| v.parse().ok())
+                .with_context(|| format!("{}: line {}: expected wi,k", path.display(), n + 1))
+        };
+        out.push((parse(0)?, parse(1)?));
+    }
+    Ok(out)
+}
+
+fn colour(k: usize) -> RGBColor {
+    PALETTE[k % PALETTE.len()]
+}
+
+/// Runs the case at every Wi and writes the study files. Returns the rows.
+pub fn run(
+    base: &Base,
+    wis: &[f64],
+    reference: Option<&[(f64, f64)]>,
+    out: &Path,
+    jobs: usize,
+    quiet: bool,
+) -> Result<Vec<Row>> {
+    let scale = base.case(&[])?;
+    anyhow::ensure!(
+        scale.scene.cylinder.is_some(),
+        "{}: the cylinder study needs a case with [scene.cylinder]",
+        base.path.display()
+    );
+    let d = scale.derived();
+    let variants: Vec<Variant> = wis
+        .iter()
+        .map(|&wi| {
+            let lambda = wi * scale.scene.length_scale() / d.velocity_scale;
+            // Wi = 0 is the Newtonian limit of the same fluid (η0 unchanged).
+            let overrides = if wi == 0.0 {
+                [
+                    "fluid.model=newtonian",
+                    "fluid.relaxation_time=0",
+                    "fluid.beta=1",
+                ]
+                .map(String::from)
+                .to_vec()
+            } else {
+                vec![format!("fluid.relaxation_time={lambda}")]
+            };
+            Variant {
+                label: format!("Wi={wi}"),
+                overrides,
+                tags: vec![("wi".into(), format!("{wi}"))],
+            }
+        })
+        .collect();
+    let finished = run_all(base, variants, out, jobs, quiet)?;
+    let mut rows = Vec::new();
+    let mut profiles: Vec<(f64, Vec<[f64; 4]>)> = Vec::new();
+    for (f, &wi) in finished.iter().zip(wis) {
+        let s = &f.summary;
+        let st = s.steady.as_ref();
+        rows.push(Row {
+            wi,
+            outcome: format!("{:?}", s.outcome),
+            t_reached: s.t_reached,
+            steady_at: st.and_then(|x| x.reached_at),
+            u_mean: st.map_or(f64::NAN, |x| x.u_mean),
+            drag_k: st.map_or(f64::NAN, |x| x.drag_k),
+            k_parts: st.map_or([f64::NAN; 3], |x| [x.k_pressure, x.k_solvent, x.k_polymer]),
+            peak_tau_xx: st.map_or(f64::NAN, |x| x.peak_tau_xx_centreline),
+            min_det_a: st.map_or(f64::NAN, |x| x.min_det_a),
+            particles: s.particles,
+            steps: s.steps,
+            wall_seconds: s.wall_seconds,
+        });
+        let text = std::fs::read_to_string(f.dir.join("centreline.csv")).unwrap_or_default();
+        let points = crate::analysis::centreline::parse_csv(&text);
+        profiles.push((wi, points));
+    }
+    crate::app::io::write_atomic(&out.join("cylinder.csv"), csv(&rows).as_bytes())?;
+    for (k, name, y) in [
+        (1, "centreline_u.png", "u/<u>"),
+        (2, "centreline_tau_xx.png", "tau_xx/(eta_s <u>/R)"),
+        (3, "centreline_det_a.png", "det A"),
+    ] {
+        let curves: Vec<Curve> = profiles
+            .iter()
+            .enumerate()
+            .map(|(c, (wi, p))| Curve {
+                label: format!("Wi = {wi}"),
+                points: p.iter().map(|q| (q[0], q[k])).collect(),
+                style: CurveStyle::Line,
+                color: colour(c),
+            })
+            .collect();
+        plot::draw(
+            &out.join(name),
+            &Chart {
+                title: format!("Centre-line between cylinders: {y}"),
+                x_label: "s (0: downstream edge of a cylinder)".into(),
+                y_label: y.into(),
+                ..Default::default()
+            },
+            &curves,
+        )?;
+    }
+    let mut curves = vec![Curve {
+        label: "rheosph".into(),
+        points: rows
+            .iter()
+            .filter(|r| r.drag_k.is_finite())
+            .map(|r| (r.wi, r.drag_k))
+            .collect(),
+        style: CurveStyle::Line,
+        color: PALETTE[0],
+    }];
+    if let Some(reference) = reference {
+        curves.push(Curve {
+            label: "published".into(),
+            points: reference.to_vec(),
+            style: CurveStyle::Markers,
+            color: PALETTE[1],
+        });
+    }
+    plot::draw(
+        &out.join("drag_vs_wi.png"),
+        &Chart {
+            title: "Drag coefficient K = F_x/(eta0 <u>)".into(),
+            x_label: "Wi".into(),
+            y_label: "K".into(),
+            ..Default::default()
+        },
+        &curves,
+    )?;
+    Ok(rows)
+}
+
+fn csv(rows: &[Row]) -> String {
+    let mut s = String::from(
+        "wi,outcome,t_reached,steady_at,u_mean,drag_k,k_pressure,k_solvent,k_polymer,peak_tau_xx_centreline,min_det_a,particles,steps,wall_seconds\n",
+    );
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "{},{},{:.6e},{},{:.8e},{:.8e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{},{},{:.3}",
+            r.wi,
+            r.outcome,
+            r.t_reached,
+            r.steady_at.map_or(String::new(), |t| format!("{t:.6e}")),
+            r.u_mean,
+            r.drag_k,
+            r.k_parts[0],
+            r.k_parts[1],
+            r.k_parts[2],
+            r.peak_tau_xx,
+            r.min_det_a,
+            r.particles,
+            r.steps,
+            r.wall_seconds
+        );
+    }
+    s
+}

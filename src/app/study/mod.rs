@@ -1,0 +1,246 @@
+//! Studies: many runs of one case, with CSV data and PNG figures a paper could use.
+//!
+//! * [`convergence`]: L2 error against time and against δr, with the observed order;
+//! * [`stability`]: where methods fail, over Wi and scheme variants;
+//! * [`speed_accuracy`]: wall time against L2 error, with the Pareto front;
+//! * [`cylinder`]: a cylinder in a channel over Wi: drag, centre-line profiles.
+//!
+//! Every `--set` of the base case applies to every run. Runs may execute concurrently
+//! (`--jobs`); a run's results do not depend on its thread count (blocked reductions, fixed
+//! neighbour order), so neither do the study's.
+
+pub mod cli;
+pub mod convergence;
+pub mod cylinder;
+pub mod speed_accuracy;
+pub mod stability;
+
+use crate::app::io::SeriesRow;
+use crate::app::run::{self, RunOptions, Summary};
+use crate::setup::case::{self, Case, CaseError};
+use anyhow::{Context, Result};
+use rayon::prelude::*;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// One run of a study: its label, its overrides on top of the base case, and tags for the
+/// CSV (e.g. `frame = eulerian`).
+#[derive(Clone, Debug)]
+pub struct Variant {
+    pub label: String,
+    pub overrides: Vec<String>,
+    pub tags: Vec<(String, String)>,
+}
+
+/// A finished run of a study.
+pub struct Finished {
+    pub variant: Variant,
+    pub case: Case,
+    pub summary: Summary,
+    pub series: Vec<SeriesRow>,
+    pub dir: PathBuf,
+}
+
+/// The base case of a study: its file and the `--set` overrides of every run.
+#[derive(Clone, Debug)]
+pub struct Base {
+    pub path: PathBuf,
+    pub sets: Vec<String>,
+}
+
+impl Base {
+    /// The validated case of one variant.
+    pub fn case(&self, extra: &[String]) -> Result<Case, CaseError> {
+        let mut all = self.sets.clone();
+        all.extend(extra.iter().cloned());
+        case::load(&self.path, &all)
+    }
+}
+
+/// `key=v1,v2,...` of a `--vary` argument.
+pub fn parse_vary(arg: &str) -> Result<(String, Vec<String>), CaseError> {
+    let bad = |m: &str| CaseError {
+        file: "--vary".into(),
+        field: String::new(),
+        message: format!("{arg:?}: {m}"),
+    };
+    let (key, values) = arg
+        .split_once('=')
+        .ok_or_else(|| bad("expected key=value1,value2,..."))?;
+    let values: Vec<String> = values
+        .split(',')
+        .map(|v| v.trim().to_string())
+        .filter(|v| !v.is_empty())
+        .collect();
+    if key.trim().is_empty() || values.is_empty() {
+        return Err(bad("expected key=value1,value2,..."));
+    }
+    Ok((key.trim().to_string(), values))
+}
+
+/// The Cartesian product of the `--vary` arguments (one empty variant when there are none).
+pub fn product(varies: &[(String, Vec<String>)]) -> Vec<Variant> {
+    let mut out = vec![Variant {
+        label: String::new(),
+        overrides: Vec::new(),
+        tags: Vec::new(),
+    }];
+    for (key, values) in varies {
+        let short = key.rsplit('.').next().unwrap_or(key);
+        out = out
+            .into_iter()
+            .flat_map(|v| {
+                values.iter().map(move |value| {
+                    let mut w = v.clone();
+                    if !w.label.is_empty() {
+                        w.label.push(' ');
+                    }
+                    w.label.push_str(&format!("{short}={value}"));
+                    w.overrides.push(format!("{key}={value}"));
+                    w.tags.push((key.clone(), value.clone()));
+                    w
+                })
+            })
+            .collect();
+    }
+    out
+}
+
+/// A file-system-safe directory name for a label.
+fn slug(label: &str) -> String {
+    let s: String = label
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '.' || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    if s.is_empty() {
+        "run".into()
+    } else {
+        s
+    }
+}
+
+/// Runs every variant (validated first, so a bad variant fails before any run starts), `jobs`
+/// at a time, each into `out/runs/<label>`. Progress goes to stderr unless `quiet`.
+pub fn run_all(
+    base: &Base,
+    variants: Vec<Variant>,
+    out: &Path,
+    jobs: usize,
+    quiet: bool,
+) -> Result<Vec<Finished>> {
+    let cases: Vec<Case> = variants
+        .iter()
+        .map(|v| base.case(&v.overrides))
+        .collect::<Result<_, _>>()?;
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    let jobs = jobs.clamp(1, variants.len().max(1));
+    let threads = (rayon::current_num_threads() / jobs).max(1);
+    let total = variants.len();
+    let done = AtomicUsize::new(0);
+    let run_one = |(variant, case): (Variant, Case)| -> Result<Finished> {
+        let dir = out.join("runs").join(slug(&variant.label));
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()?;
+        let summary = pool.install(|| {
+            run::run(
+                &case,
+                &RunOptions {
+                    out_dir: dir.clone(),
+                    quiet: true,
+                    charts: false,
+                    snapshots: false,
+                },
+            )
+        })?;
+        let series = crate::app::io::read_series(&dir.join("series.csv"))?;
+        let k = done.fetch_add(1, Ordering::SeqCst) + 1;
+        if !quiet {
+            let l2 = summary
+                .errors
+                .l2_time_mean
+                .map_or("-".to_string(), |v| format!("{v:.3e}"));
+            eprintln!(
+                "[{k}/{total}] {}: {:?} at t = {:.3}, L2 mean {l2}, {:.1} s",
+                if variant.label.is_empty() {
+                    "base"
+                } else {
+                    &variant.label
+                },
+                summary.outcome,
+                summary.t_reached,
+                summary.wall_seconds
+            );
+        }
+        Ok(Finished {
+            variant,
+            case,
+            summary,
+            series,
+            dir,
+        })
+    };
+    let work: Vec<(Variant, Case)> = variants.into_iter().zip(cases).collect();
+    if jobs == 1 {
+        work.into_iter().map(run_one).collect()
+    } else {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(jobs).build()?;
+        pool.install(|| work.into_par_iter().map(run_one).collect())
+    }
+}
+
+/// Least-squares slope of log y against log x (the observed order), over positive pairs.
+pub fn fitted_order(points: &[(f64, f64)]) -> Option<f64> {
+    let logs: Vec<(f64, f64)> = points
+        .iter()
+        .filter(|(x, y)| *x > 0.0 && *y > 0.0 && y.is_finite())
+        .map(|(x, y)| (x.ln(), y.ln()))
+        .collect();
+    if logs.len() < 2 {
+        return None;
+    }
+    let n = logs.len() as f64;
+    let (mx, my) = (
+        logs.iter().map(|p| p.0).sum::<f64>() / n,
+        logs.iter().map(|p| p.1).sum::<f64>() / n,
+    );
+    let sxx: f64 = logs.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    let sxy: f64 = logs.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    (sxx > 0.0).then(|| sxy / sxx)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn product_of_varies_labels_every_combination() {
+        let v = product(&[
+            parse_vary("scheme.frame=lagrangian,eulerian").unwrap(),
+            parse_vary("scheme.conformation=log,direct").unwrap(),
+        ]);
+        assert_eq!(v.len(), 4);
+        assert_eq!(v[3].label, "frame=eulerian conformation=direct");
+        assert_eq!(
+            v[3].overrides,
+            vec!["scheme.frame=eulerian", "scheme.conformation=direct"]
+        );
+        assert!(parse_vary("scheme.frame").is_err());
+        assert!(parse_vary("scheme.frame=").is_err());
+    }
+
+    #[test]
+    fn fitted_order_of_a_power_law() {
+        let pts: Vec<(f64, f64)> = [1.0, 0.5, 0.25]
+            .iter()
+            .map(|&h: &f64| (h, 3.0 * h * h))
+            .collect();
+        assert!((fitted_order(&pts).unwrap() - 2.0).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,247 @@
+//! `rheosph study stability`: each scheme variant over a range of Weissenberg numbers, run to
+//! the end time or breakdown. The outcome is data: `stability.csv` and a map.
+//!
+//! Outcomes: `stable` (finished, time-mean L2 error against the reference within the
+//! accuracy threshold), `inaccurate` (finished, but left the analytic solution: time-mean L2
+//! above the threshold), `broke_down` (stopped: non-finite values, runaway energy or
+//! conformation, a failed solve; the time and reason are recorded). The default threshold,
+//! 10 % of U, is about ten times the error of a resolved run at H/δr = 30 (0.9 %) and far
+//! below the O(1) errors of a run that has left the solution.
+
+use super::{product, run_all, Base, Variant};
+use crate::app::plot::{self, Chart, Curve, CurveStyle};
+use crate::app::run::Outcome;
+use anyhow::{Context, Result};
+use plotters::style::RGBColor;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// Classification of one run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Result3 {
+    Stable,
+    Inaccurate,
+    BrokeDown,
+}
+
+impl Result3 {
+    pub fn name(self) -> &'static str {
+        match self {
+            Result3::Stable => "stable",
+            Result3::Inaccurate => "inaccurate",
+            Result3::BrokeDown => "broke_down",
+        }
+    }
+}
+
+/// One line of `stability.csv`.
+pub struct Row {
+    pub variant: String,
+    pub wi: f64,
+    pub outcome: Result3,
+    pub t_breakdown: Option<f64>,
+    pub reason: Option<String>,
+    pub l2_mean: Option<f64>,
+    pub l2_final: Option<f64>,
+    pub steps: u64,
+    pub wall_seconds: f64,
+}
+
+/// Runs every variant at every Wi (λ = Wi·H/U) and writes `stability.csv` and
+/// `stability_map.png`. Returns the rows.
+pub fn run(
+    base: &Base,
+    wis: &[f64],
+    varies: &[(String, Vec<String>)],
+    accuracy: f64,
+    out: &Path,
+    jobs: usize,
+    quiet: bool,
+) -> Result<Vec<Row>> {
+    let scale = base.case(&[])?;
+    let d = scale.derived();
+    let mut variants = Vec::new();
+    for v in product(varies) {
+        for &wi in wis {
+            let lambda = wi * scale.scene.length_scale() / d.velocity_scale;
+            let mut w: Variant = v.clone();
+            w.overrides.push(format!("fluid.relaxation_time={lambda}"));
+            w.tags.push(("wi".into(), format!("{wi}")));
+            w.label = format!("{} Wi={wi}", v.label).trim().to_string();
+            variants.push(w);
+        }
+    }
+    let finished = run_all(base, variants, out, jobs, quiet)?;
+    let rows: Vec<Row> = finished
+        .iter()
+        .map(|f| {
+            let s = &f.summary;
+            let wi: f64 = f
+                .variant
+                .tags
+                .iter()
+                .find(|(k, _)| k == "wi")
+                .and_then(|(_, v)| v.parse().ok())
+                .unwrap_or(f64::NAN);
+            let name: String = f
+                .variant
+                .label
+                .rsplit_once(" Wi=")
+                .map_or(String::new(), |(a, _)| a.to_string());
+            let outcome = match (s.outcome, s.errors.l2_time_mean) {
+                (Outcome::BrokeDown, _) => Result3::BrokeDown,
+                (Outcome::Finished, Some(l2)) if l2 <= accuracy => Result3::Stable,
+                (Outcome::Finished, _) => Result3::Inaccurate,
+            };
+            Row {
+                variant: if name.is_empty() { "base".into() } else { name },
+                wi,
+                outcome,
+                t_breakdown: (s.outcome == Outcome::BrokeDown).then_some(s.t_reached),
+                reason: s.reason.clone(),
+                l2_mean: s.errors.l2_time_mean,
+                l2_final: s.errors.l2_final,
+                steps: s.steps,
+                wall_seconds: s.wall_seconds,
+            }
+        })
+        .collect();
+    let mut csv =
+        String::from("variant,wi,outcome,t_breakdown,reason,l2_mean,l2_final,steps,wall_seconds\n");
+    let opt = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:.6e}"));
+    for r in &rows {
+        let _ = writeln!(
+            csv,
+            "{},{},{},{},\"{}\",{},{},{},{:.3}",
+            r.variant,
+            r.wi,
+            r.outcome.name(),
+            opt(r.t_breakdown),
+            r.reason.as_deref().unwrap_or("").replace('"', "'"),
+            opt(r.l2_mean),
+            opt(r.l2_final),
+            r.steps,
+            r.wall_seconds
+        );
+    }
+    crate::app::io::write_atomic(&out.join("stability.csv"), csv.as_bytes())?;
+    map(&rows, accuracy, out)?;
+    Ok(rows)
+}
+
+/// Redraws the map of a finished study from its `stability.csv` (variant, Wi and outcome
+/// are the first three columns; the variant labels hold no commas).
+pub fn replot(out: &Path, accuracy: f64) -> Result<()> {
+    let path = out.join("stability.csv");
+    let text =
+        std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))?;
+    let rows = text
+        .lines()
+        .skip(1)
+        .map(|line| {
+            let mut f = line.splitn(4, ',');
+            let (variant, wi, outcome) = (f.next(), f.next(), f.next());
+            let bad = || anyhow::anyhow!("{}: bad row {line}", path.display());
+            let outcome = match outcome.ok_or_else(bad)? {
+                "stable" => Result3::Stable,
+                "inaccurate" => Result3::Inaccurate,
+                "broke_down" => Result3::BrokeDown,
+                _ => return Err(bad()),
+            };
+            Ok(Row {
+                variant: variant.ok_or_else(bad)?.to_string(),
+                wi: wi.ok_or_else(bad)?.parse().map_err(|_| bad())?,
+                outcome,
+                t_breakdown: None,
+                reason: None,
+                l2_mean: None,
+                l2_final: None,
+                steps: 0,
+                wall_seconds: 0.0,
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    map(&rows, accuracy, out)
+}
+
+/// Wi on a log axis, one row per variant, coloured by outcome; the variant of each row is in
+/// the legend of its largest stable Wi.
+fn map(rows: &[Row], accuracy: f64, out: &Path) -> Result<()> {
+    let mut names: Vec<String> = Vec::new();
+    for r in rows {
+        if !names.contains(&r.variant) {
+            names.push(r.variant.clone());
+        }
+    }
+    let level = |name: &str| names.iter().position(|n| n == name).unwrap_or(0) as f64;
+    let mut curves = Vec::new();
+    for (outcome, color) in [
+        (Result3::Stable, RGBColor(20, 150, 60)),
+        (Result3::Inaccurate, RGBColor(220, 140, 0)),
+        (Result3::BrokeDown, RGBColor(200, 30, 30)),
+    ] {
+        curves.push(Curve {
+            label: match outcome {
+                Result3::Stable => format!("stable (L2 <= {accuracy})"),
+                other => other.name().to_string(),
+            },
+            points: rows
+                .iter()
+                .filter(|r| r.outcome == outcome)
+                .map(|r| (r.wi, level(&r.variant)))
+                .collect(),
+            style: CurveStyle::Markers,
+            color,
+        });
+    }
+    for (k, name) in names.iter().enumerate() {
+        // Stable up to the first Wi that is not, and any stable Wi above it (stability need not
+        // be monotone in Wi within a fixed end time).
+        let mut runs: Vec<&Row> = rows.iter().filter(|r| &r.variant == name).collect();
+        runs.sort_by(|a, b| a.wi.total_cmp(&b.wi));
+        let first_failure = runs.iter().position(|r| r.outcome != Result3::Stable);
+        let upto = match first_failure {
+            None => format!(
+                "stable at every Wi to {}",
+                runs.last().map_or(f64::NAN, |r| r.wi)
+            ),
+            Some(0) => "not stable at any Wi".into(),
+            Some(k) => format!("stable to Wi {}", runs[k - 1].wi),
+        };
+        let again: Vec<String> = first_failure
+            .map(|k| {
+                runs[k..]
+                    .iter()
+                    .filter(|r| r.outcome == Result3::Stable)
+                    .map(|r| r.wi.to_string())
+                    .collect()
+            })
+            .unwrap_or_default();
+        let again = if again.is_empty() {
+            String::new()
+        } else {
+            format!(", again at {}", again.join(", "))
+        };
+        curves.push(Curve {
+            label: format!("row {k}: {name}: {upto}{again}"),
+            points: Vec::new(),
+            style: CurveStyle::Line,
+            color: RGBColor(120, 120, 120),
+        });
+    }
+    // Room above the rows for the legend (three outcomes and one line per row).
+    let n = names.len() as f64;
+    let y_range = Some((-0.5, (n - 0.5) + 0.25 * (n + 3.0) + 0.5));
+    plot::draw(
+        &out.join("stability_map.png"),
+        &Chart {
+            title: "Stability map".into(),
+            x_label: "Wi".into(),
+            y_label: "variant (row)".into(),
+            log_x: true,
+            y_range,
+            ..Default::default()
+        },
+        &curves,
+    )
+}

@@ -1,0 +1,412 @@
+//! Cell-linked-list neighbour search with periodic wrap, producing CSR neighbour lists.
+//!
+//! Rows are the fluid particles (the first `n_rows` points); columns are all points, fluid and
+//! ghost. Each row lists every point j ≠ i with |r_ij| < support, in a deterministic order
+//! (cells scanned in a fixed order, points within a cell by index), together with the
+//! minimum-image separation r_ij = r_i − r_j.
+
+use crate::engine::math::Vec2;
+use rayon::prelude::*;
+
+/// An axis-aligned box, periodic or not along each axis.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Domain {
+    pub min: Vec2,
+    pub max: Vec2,
+    pub periodic: [bool; 2],
+}
+
+impl Domain {
+    pub fn size(&self) -> Vec2 {
+        self.max - self.min
+    }
+
+    /// Wraps a position into the box along periodic axes.
+    pub fn wrap(&self, mut p: Vec2) -> Vec2 {
+        for a in 0..2 {
+            if self.periodic[a] {
+                let length = self.max[a] - self.min[a];
+                p[a] = self.min[a] + (p[a] - self.min[a]).rem_euclid(length);
+                if p[a] >= self.max[a] {
+                    p[a] = self.min[a]; // rem_euclid can round up to `length`
+                }
+            }
+        }
+        p
+    }
+
+    /// Minimum-image separation along periodic axes.
+    pub fn min_image(&self, mut d: Vec2) -> Vec2 {
+        for a in 0..2 {
+            if self.periodic[a] {
+                let length = self.max[a] - self.min[a];
+                if d[a] > 0.5 * length {
+                    d[a] -= length;
+                } else if d[a] < -0.5 * length {
+                    d[a] += length;
+                }
+            }
+        }
+        d
+    }
+}
+
+/// CSR neighbour lists: row i spans `offsets[i]..offsets[i + 1]` of `index` and `rij`.
+#[derive(Clone, Debug, Default)]
+pub struct NeighbourList {
+    pub offsets: Vec<usize>,
+    pub index: Vec<u32>,
+    /// r_i − r_j (minimum image).
+    pub rij: Vec<Vec2>,
+}
+
+impl NeighbourList {
+    /// Heap bytes held.
+    pub fn heap_bytes(&self) -> usize {
+        crate::engine::vec_bytes(&self.offsets)
+            + crate::engine::vec_bytes(&self.index)
+            + crate::engine::vec_bytes(&self.rij)
+    }
+
+    pub fn rows(&self) -> usize {
+        self.offsets.len().saturating_sub(1)
+    }
+
+    pub fn range(&self, i: usize) -> std::ops::Range<usize> {
+        self.offsets[i]..self.offsets[i + 1]
+    }
+
+    pub fn pairs(&self) -> usize {
+        self.index.len()
+    }
+}
+
+/// Reusable cell-linked-list search. Buffers grow to the largest problem seen and are reused.
+#[derive(Default)]
+pub struct NeighbourSearch {
+    cell_start: Vec<usize>,
+    cell_points: Vec<u32>,
+    point_cell: Vec<u32>,
+    counts: Vec<usize>,
+    next: Vec<usize>,
+}
+
+/// Cells per kernel support: cells of width support/2 and a 5×5 stencil cover the support
+/// disc with 6.25 support² of candidates instead of the 9 support² of a 3×3 stencil of
+/// support-wide cells (measured: ~30 % less time in the search).
+const SUBDIVISION: usize = 2;
+const STENCIL: usize = 2 * SUBDIVISION + 1;
+
+/// Cell layout: `n[a]` cells of width `width[a]` starting at `origin[a]`.
+#[derive(Clone, Copy, Debug)]
+struct Grid {
+    origin: Vec2,
+    width: Vec2,
+    n: [usize; 2],
+    periodic: [bool; 2],
+}
+
+impl Grid {
+    fn new(domain: &Domain, points: &[Vec2], support: f64) -> Self {
+        let mut origin = domain.min;
+        let cell = support / SUBDIVISION as f64;
+        let mut width = Vec2::new(cell, cell);
+        let mut n = [1usize; 2];
+        for a in 0..2 {
+            if domain.periodic[a] {
+                let length = domain.max[a] - domain.min[a];
+                n[a] = ((length / cell).floor() as usize).max(1);
+                width[a] = length / n[a] as f64;
+            } else {
+                let (lo, hi) = points
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                        (lo.min(p[a]), hi.max(p[a]))
+                    });
+                let (lo, hi) = if lo.is_finite() { (lo, hi) } else { (0.0, 0.0) };
+                origin[a] = lo;
+                n[a] = (((hi - lo) / cell).floor() as usize + 1).max(1);
+            }
+        }
+        Self {
+            origin,
+            width,
+            n,
+            periodic: domain.periodic,
+        }
+    }
+
+    fn coordinate(&self, p: &Vec2, a: usize) -> usize {
+        let c = ((p[a] - self.origin[a]) / self.width[a]).floor();
+        (c.max(0.0) as usize).min(self.n[a] - 1)
+    }
+
+    fn cell(&self, p: &Vec2) -> usize {
+        self.coordinate(p, 0) * self.n[1] + self.coordinate(p, 1)
+    }
+
+    fn count(&self) -> usize {
+        self.n[0] * self.n[1]
+    }
+
+    /// The (up to [`STENCIL`]) cell coordinates within reach of `c` along axis `a`,
+    /// deduplicated when a periodic axis has fewer cells than the stencil.
+    fn adjacent(&self, c: usize, a: usize) -> ([usize; STENCIL], usize) {
+        let n = self.n[a];
+        let mut out = [0; STENCIL];
+        let mut len = 0;
+        let reach = SUBDIVISION as i64;
+        for d in -reach..=reach {
+            let k = c as i64 + d;
+            let k = if self.periodic[a] {
+                k.rem_euclid(n as i64) as usize
+            } else if k < 0 || k >= n as i64 {
+                continue;
+            } else {
+                k as usize
+            };
+            if !out[..len].contains(&k) {
+                out[len] = k;
+                len += 1;
+            }
+        }
+        (out, len)
+    }
+}
+
+impl NeighbourSearch {
+    /// Heap bytes held.
+    pub fn heap_bytes(&self) -> usize {
+        crate::engine::vec_bytes(&self.cell_start)
+            + crate::engine::vec_bytes(&self.cell_points)
+            + crate::engine::vec_bytes(&self.point_cell)
+            + crate::engine::vec_bytes(&self.counts)
+            + crate::engine::vec_bytes(&self.next)
+    }
+
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Builds neighbour lists for rows `0..n_rows` of `points` within `support`.
+    ///
+    /// Periodic axes need at least three cells of width ≥ support (checked when the case is
+    /// validated); otherwise a pair could be found through two images.
+    pub fn build(
+        &mut self,
+        domain: &Domain,
+        points: &[Vec2],
+        n_rows: usize,
+        support: f64,
+        out: &mut NeighbourList,
+    ) {
+        let grid = Grid::new(domain, points, support);
+        self.bin(&grid, points);
+        let support2 = support * support;
+        // Pairs closer than this are coincident points: they carry no gradient information
+        // and would divide by zero in the Laplacian, so they are skipped.
+        let coincident2 = (1e-9 * support).powi(2);
+
+        // Pass 1: count.
+        let mut counts = std::mem::take(&mut self.counts);
+        counts.resize(n_rows, 0);
+        let this = &*self;
+        let visit = |i: usize, f: &mut dyn FnMut(u32, Vec2)| {
+            let pi = points[i];
+            let c = this.point_cell[i] as usize;
+            let (cx, cy) = (c / grid.n[1], c % grid.n[1]);
+            let (xs, nx) = grid.adjacent(cx, 0);
+            let (ys, ny) = grid.adjacent(cy, 1);
+            for &x in &xs[..nx] {
+                for &y in &ys[..ny] {
+                    let cell = x * grid.n[1] + y;
+                    for &j in &this.cell_points[this.cell_start[cell]..this.cell_start[cell + 1]] {
+                        if j as usize == i {
+                            continue;
+                        }
+                        let d = domain.min_image(pi - points[j as usize]);
+                        let r2 = d.norm_squared();
+                        if r2 < support2 && r2 > coincident2 {
+                            f(j, d);
+                        }
+                    }
+                }
+            }
+        };
+        counts.par_iter_mut().enumerate().for_each(|(i, c)| {
+            let mut k = 0;
+            visit(i, &mut |_, _| k += 1);
+            *c = k;
+        });
+
+        // Prefix sum into CSR offsets.
+        out.offsets.clear();
+        out.offsets.reserve(n_rows + 1);
+        out.offsets.push(0);
+        let mut total = 0;
+        for c in &counts {
+            total += c;
+            out.offsets.push(total);
+        }
+        out.index.resize(total, 0);
+        out.rij.resize(total, Vec2::zeros());
+
+        // Pass 2: fill, each row into its own disjoint range.
+        let offsets = &out.offsets;
+        let index = RowWriter::new(&mut out.index);
+        let rij = RowWriter::new(&mut out.rij);
+        (0..n_rows).into_par_iter().for_each(|i| {
+            // SAFETY: CSR row ranges are disjoint and each row is visited by one task.
+            let (idx, rij) = unsafe { (index.row(offsets, i), rij.row(offsets, i)) };
+            let mut k = 0;
+            visit(i, &mut |j, d| {
+                idx[k] = j;
+                rij[k] = d;
+                k += 1;
+            });
+        });
+        self.counts = counts;
+    }
+
+    /// Counting sort of the points into cells (stable: points stay in index order).
+    fn bin(&mut self, grid: &Grid, points: &[Vec2]) {
+        let cells = grid.count();
+        self.point_cell.clear();
+        self.point_cell
+            .extend(points.iter().map(|p| grid.cell(p) as u32));
+        self.cell_start.clear();
+        self.cell_start.resize(cells + 1, 0);
+        for &c in &self.point_cell {
+            self.cell_start[c as usize + 1] += 1;
+        }
+        for c in 0..cells {
+            self.cell_start[c + 1] += self.cell_start[c];
+        }
+        self.cell_points.resize(points.len(), 0);
+        self.next.clear();
+        self.next.extend_from_slice(&self.cell_start);
+        for (i, &c) in self.point_cell.iter().enumerate() {
+            self.cell_points[self.next[c as usize]] = i as u32;
+            self.next[c as usize] += 1;
+        }
+    }
+}
+
+/// Parallel writes into the disjoint rows of a CSR array without splitting it into a vector
+/// of slices (which would allocate every step).
+pub struct RowWriter<T> {
+    ptr: *mut T,
+    len: usize,
+}
+
+// SAFETY: a RowWriter only hands out rows through `row`, whose callers guarantee disjointness.
+unsafe impl<T: Send> Send for RowWriter<T> {}
+unsafe impl<T: Send> Sync for RowWriter<T> {}
+
+impl<T> RowWriter<T> {
+    pub fn new(data: &mut [T]) -> Self {
+        Self {
+            ptr: data.as_mut_ptr(),
+            len: data.len(),
+        }
+    }
+
+    /// The mutable slice of row `i`.
+    ///
+    /// # Safety
+    /// No two live slices may overlap: call at most once per row at a time, with
+    /// non-decreasing `offsets` within the written array.
+    #[allow(clippy::mut_from_ref)]
+    pub unsafe fn row(&self, offsets: &[usize], i: usize) -> &mut [T] {
+        let (start, end) = (offsets[i], offsets[i + 1]);
+        assert!(start <= end && end <= self.len);
+        unsafe { std::slice::from_raw_parts_mut(self.ptr.add(start), end - start) }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn brute_force(domain: &Domain, points: &[Vec2], n_rows: usize, support: f64) -> Vec<Vec<u32>> {
+        (0..n_rows)
+            .map(|i| {
+                let mut v: Vec<u32> = (0..points.len())
+                    .filter(|&j| j != i)
+                    .filter(|&j| domain.min_image(points[i] - points[j]).norm() < support)
+                    .map(|j| j as u32)
+                    .collect();
+                v.sort();
+                v
+            })
+            .collect()
+    }
+
+    /// Pseudo-random but reproducible points (a Weyl sequence).
+    fn points(n: usize, domain: &Domain, spill: f64) -> Vec<Vec2> {
+        let size = domain.size();
+        (0..n)
+            .map(|k| {
+                let u = (k as f64 * 0.754_877_666).fract();
+                let v = (k as f64 * 0.569_840_290 + 0.1).fract();
+                Vec2::new(
+                    domain.min.x + u * size.x,
+                    domain.min.y - spill + v * (size.y + 2.0 * spill),
+                )
+            })
+            .collect()
+    }
+
+    fn check(domain: Domain, support: f64) {
+        let pts = points(1500, &domain, if domain.periodic[1] { 0.0 } else { 0.2 });
+        let n_rows = 1000;
+        let mut list = NeighbourList::default();
+        NeighbourSearch::new().build(&domain, &pts, n_rows, support, &mut list);
+        let expected = brute_force(&domain, &pts, n_rows, support);
+        for (i, exp) in expected.iter().enumerate() {
+            let mut got: Vec<u32> = list.index[list.range(i)].to_vec();
+            got.sort();
+            assert_eq!(&got, exp, "row {i}");
+            for k in list.range(i) {
+                let j = list.index[k] as usize;
+                let d = domain.min_image(pts[i] - pts[j]);
+                assert!((list.rij[k] - d).norm() < 1e-14);
+            }
+        }
+    }
+
+    #[test]
+    fn matches_brute_force_periodic_in_x() {
+        let domain = Domain {
+            min: Vec2::new(0.0, 0.0),
+            max: Vec2::new(1.0, 1.0),
+            periodic: [true, false],
+        };
+        check(domain, 0.13);
+        // The smallest periodic box the search supports: exactly three cells.
+        check(domain, 0.3333);
+    }
+
+    #[test]
+    fn matches_brute_force_doubly_periodic() {
+        let domain = Domain {
+            min: Vec2::new(-0.5, 2.0),
+            max: Vec2::new(1.5, 3.0),
+            periodic: [true, true],
+        };
+        check(domain, 0.17);
+    }
+
+    #[test]
+    fn wrap_and_min_image() {
+        let d = Domain {
+            min: Vec2::new(0.0, 0.0),
+            max: Vec2::new(1.0, 1.0),
+            periodic: [true, false],
+        };
+        let w = d.wrap(Vec2::new(-0.25, 1.5));
+        assert!((w.x - 0.75).abs() < 1e-15 && w.y == 1.5);
+        let m = d.min_image(Vec2::new(0.9, 0.9));
+        assert!((m.x + 0.1).abs() < 1e-15 && m.y == 0.9);
+    }
+}
