@@ -5,10 +5,9 @@
 
 mod common;
 use common::poiseuille;
-use rheosph::app::checkpoint::{self, CheckpointError};
+use rheosph::app::run::checkpoint::{self, CheckpointError};
 use rheosph::engine::step::{Simulation, State, REORDER_INTERVAL};
 use rheosph::setup::case::{self, Case};
-use rheosph::setup::scene;
 use std::path::Path;
 
 /// Checkpoint before a Morton reordering (step 50), stop after it.
@@ -16,7 +15,7 @@ const CHECKPOINT_STEP: u64 = 30;
 const END_STEP: u64 = 80;
 
 fn simulation(case: &Case) -> Simulation {
-    Simulation::new(scene::build(case))
+    Simulation::new(case.setup())
 }
 
 fn advance(sim: &mut Simulation, to_step: u64) {

@@ -5,7 +5,6 @@
 use rheosph::engine::math::Vec2;
 use rheosph::engine::step::Simulation;
 use rheosph::setup::case;
-use rheosph::setup::scene;
 use std::path::Path;
 use std::process::Command;
 
@@ -16,7 +15,7 @@ fn free_drop(velocity: Vec2) -> Simulation {
         &["scene.resolution=20".into()],
     )
     .unwrap();
-    let mut setup = scene::build(&case);
+    let mut setup = case.setup();
     setup.velocity.iter_mut().for_each(|u| *u = velocity);
     setup.body_force = Vec2::zeros();
     Simulation::new(setup)

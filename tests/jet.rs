@@ -4,7 +4,6 @@
 use rheosph::engine::boundary::inflow::BUFFER_ROWS;
 use rheosph::engine::step::Simulation;
 use rheosph::setup::case;
-use rheosph::setup::scene;
 use std::path::Path;
 
 /// A coarse jet (D/δr = 10, U0 = 0.2 m/s) run for 0.05 s: one row of D/δr particles enters
@@ -19,7 +18,7 @@ fn inflow_delivers_the_prescribed_flux_symmetrically() {
         &["scene.resolution=10".into()],
     )
     .unwrap();
-    let mut sim = Simulation::new(scene::build(&case));
+    let mut sim = Simulation::new(case.setup());
     let (d, u0) = (0.006, 0.2);
     let dr = d / 10.0;
     while sim.state.time < 0.05 - 1e-12 {

@@ -3,7 +3,7 @@
 
 mod common;
 use common::poiseuille;
-use rheosph::{engine::step::Simulation, setup::case, setup::scene};
+use rheosph::{engine::step::Simulation, setup::case};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::Duration;
@@ -48,7 +48,7 @@ fn bad_case_corpus_is_answered_by_one_line_each() {
 fn vtu_snapshot_round_trips_through_a_vtk_reader() {
     use vtkio::model::{Attribute, DataSet, IOBuffer, Piece};
     let case = poiseuille(&["scene.resolution=12", "run.end_time=0.05"]);
-    let mut sim = Simulation::new(scene::build(&case));
+    let mut sim = Simulation::new(case.setup());
     for _ in 0..20 {
         sim.step(f64::INFINITY).unwrap();
     }
@@ -226,7 +226,7 @@ fn mutated_case_files_never_panic() {
                 let parsed = case::parse(&candidate, "fuzz.toml", "fuzz", &[]);
                 if let Ok(c) = &parsed {
                     if c.scene.particles() <= 20_000 {
-                        let mut sim = Simulation::new(scene::build(c));
+                        let mut sim = Simulation::new(c.setup());
                         for _ in 0..3 {
                             if sim.step(c.end_time).is_err() {
                                 break;

@@ -11,7 +11,6 @@
 mod common;
 use common::poiseuille;
 use rheosph::engine::step::Simulation;
-use rheosph::setup::scene;
 
 /// Analytic steady wall shear stress (1 − β)ρgH/2 of the shipped case with β = 0.1.
 const EXACT_WALL_STRESS: f64 = 0.9 * 8.0 / 2.0;
@@ -24,7 +23,7 @@ fn steady_wall_stress(resolution: usize, wall: &str) -> f64 {
         "fluid.relaxation_time=0.2",
         &format!("scheme.wall_conformation={wall}"),
     ]);
-    let mut sim = Simulation::new(scene::build(&case));
+    let mut sim = Simulation::new(case.setup());
     let end = 4.0;
     while sim.state.time < end {
         sim.step(end - sim.state.time).expect("stable");

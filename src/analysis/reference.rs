@@ -6,13 +6,12 @@
 //! Error norms: for a channel, the streamwise velocity only (King & Lind's L2 error,
 //! `sqrt(mean (u_i − u_exact(y_i))²)/U`); for Taylor–Green, the whole velocity vector.
 
+use crate::analysis::analytic::taylor_green::velocity as taylor_green_velocity;
 use crate::analysis::analytic::waters_king::{self, Modes, StartupPoiseuille};
 use crate::analysis::analytic::SteadyChannel;
 use crate::analysis::diagnostics;
 use crate::engine::math::Vec2;
-use crate::engine::rheology::Model;
-use crate::setup::case::{Case, SceneKind};
-use crate::setup::scene::taylor_green_velocity;
+use crate::engine::rheology::{Fluid, Model};
 use std::f64::consts::PI;
 
 /// Exact polymer stress profiles (τ_xy, τ_xx, τ_yy) at a set of heights.
@@ -51,54 +50,58 @@ pub struct Reference {
 }
 
 impl Reference {
-    /// The reference for a case; an error if there is none at these parameters (e.g. a
-    /// Giesekus channel without solvent beyond its largest shear stress, or a viscoelastic
-    /// Taylor–Green vortex).
-    pub fn for_case(case: &Case) -> Result<Self, String> {
-        let d = case.derived();
-        let c = &case.scene;
-        let f = &case.fluid;
-        if c.cylinder.is_some() {
-            return Err("no analytic solution for flow past a cylinder".into());
-        }
-        let solution = match (c.kind, f.model) {
-            (SceneKind::Channel, Model::Newtonian | Model::OldroydB | Model::Ucm) => {
-                Solution::StartUp {
-                    series: StartupPoiseuille::new(d.reynolds, d.weissenberg, f.beta),
-                    modes: Modes::default(),
-                    heights: Vec::new(),
-                    time_scale: c.height / d.velocity_scale,
-                    stress_scale: f.viscosity * d.velocity_scale / c.height,
-                }
-            }
-            (SceneKind::Channel, _) => {
-                Solution::Steady(SteadyChannel::new(f, c.body_force[0], c.height)?)
-            }
-            (SceneKind::TaylorGreen, Model::Newtonian) => {
-                let k = 2.0 * PI / c.length;
-                Solution::TaylorGreen {
-                    length: c.length,
-                    amplitude: c.velocity,
-                    decay_rate: 2.0 * f.viscosity / f.density * k * k,
-                }
-            }
-            (SceneKind::TaylorGreen, _) => {
-                return Err("the Taylor–Green decay is analytic for a Newtonian fluid only".into());
-            }
-            (SceneKind::Drop, _) => {
-                return Err("no analytic solution for a drop impact (see drop.csv)".into());
-            }
-            (SceneKind::Jet, _) => {
-                return Err("no analytic solution for a buckling jet (see jet.csv)".into());
-            }
+    /// Start-up Poiseuille flow in a channel of `height` driven by `body_force` (along x):
+    /// the Waters & King series for Newtonian, Oldroyd-B and UCM fluids, the exact steady
+    /// solution for the others; an error where there is none at these parameters (e.g. a
+    /// Giesekus channel without solvent beyond its largest shear stress). `velocity_scale`
+    /// is the case's U.
+    pub fn channel(
+        f: &Fluid,
+        body_force: f64,
+        height: f64,
+        velocity_scale: f64,
+    ) -> Result<Self, String> {
+        let u = velocity_scale;
+        let solution = match f.model {
+            Model::Newtonian | Model::OldroydB | Model::Ucm => Solution::StartUp {
+                series: StartupPoiseuille::new(
+                    f.density * u * height / f.viscosity,
+                    f.relaxation_time * u / height,
+                    f.beta,
+                ),
+                modes: Modes::default(),
+                heights: Vec::new(),
+                time_scale: height / u,
+                stress_scale: f.viscosity * u / height,
+            },
+            _ => Solution::Steady(SteadyChannel::new(f, body_force, height)?),
         };
-        Ok(Self {
+        Ok(Self::new(solution, height, u))
+    }
+
+    /// The decaying Taylor–Green vortex of initial amplitude `amplitude` in a box of side
+    /// `length` (Newtonian fluids only).
+    pub fn taylor_green(f: &Fluid, length: f64, amplitude: f64) -> Result<Self, String> {
+        if f.model != Model::Newtonian {
+            return Err("the Taylor–Green decay is analytic for a Newtonian fluid only".into());
+        }
+        let k = 2.0 * PI / length;
+        let solution = Solution::TaylorGreen {
+            length,
+            amplitude,
+            decay_rate: 2.0 * f.viscosity / f.density * k * k,
+        };
+        Ok(Self::new(solution, length, amplitude))
+    }
+
+    fn new(solution: Solution, height: f64, velocity_scale: f64) -> Self {
+        Self {
             solution,
-            height: c.height,
-            velocity_scale: d.velocity_scale,
+            height,
+            velocity_scale,
             exact: Vec::new(),
             scratch: Vec::new(),
-        })
+        }
     }
 
     /// `waters-king`, `steady-channel` or `taylor-green`.
@@ -254,34 +257,6 @@ impl Reference {
                 Ok(p)
             }
             Solution::TaylorGreen { .. } => Err("no stress profiles for Taylor–Green".into()),
-        }
-    }
-}
-
-/// The measured characteristic velocity of a scene: the channel's centre-line velocity (a
-/// quadratic fit through the particles near y = H/2), the Taylor–Green amplitude, the
-/// projection `2 mean(u·û)` on the unit-amplitude mode û, or a drop's centre-of-mass
-/// vertical velocity.
-pub fn measured_velocity(
-    kind: SceneKind,
-    positions: &[Vec2],
-    velocity: &[Vec2],
-    length: f64,
-    height: f64,
-    spacing: f64,
-) -> f64 {
-    match kind {
-        SceneKind::Channel => {
-            diagnostics::centre_line_velocity(positions, velocity, 0.5 * height, spacing)
-        }
-        SceneKind::TaylorGreen => {
-            let sum = diagnostics::blocked_sum(positions.len(), |i| {
-                velocity[i].dot(&taylor_green_velocity(&positions[i], length, 1.0))
-            });
-            2.0 * sum / positions.len() as f64
-        }
-        SceneKind::Drop | SceneKind::Jet => {
-            diagnostics::blocked_sum(velocity.len(), |i| velocity[i].y) / velocity.len() as f64
         }
     }
 }

@@ -14,7 +14,7 @@ use crate::engine::operators::{DivergenceForm, KernelSums};
 use crate::engine::pressure::PressureSystem;
 use crate::engine::step::Simulation;
 use crate::setup::case::{self, Case};
-use crate::setup::scene;
+
 use anyhow::{Context, Result};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -73,8 +73,8 @@ const JITTER: f64 = 0.02;
 fn developed(sim: &mut Simulation, case: &Case) -> Result<()> {
     let dr = sim.spacing;
     let f = case.fluid;
-    let g = case.scene.body_force[0];
-    let height = case.scene.height;
+    let g = case.scene.body_force()[0];
+    let height = case.scene.height();
     for (k, p) in sim.state.position.iter_mut().enumerate() {
         let jitter = |s: f64| ((k as f64 * s).fract() - 0.5) * JITTER * dr;
         p.x += jitter(0.754_877_666);
@@ -116,7 +116,7 @@ fn timed_steps(resolution: usize, steps: usize, overrides: &[&str]) -> Result<Ti
         &o,
     )
     .map_err(|e| anyhow::anyhow!("{e}"))?;
-    let mut sim = Simulation::new(scene::build(&case));
+    let mut sim = Simulation::new(case.setup());
     developed(&mut sim, &case)?;
     let step = |sim: &mut Simulation| {
         sim.step(f64::INFINITY)
@@ -144,7 +144,7 @@ fn timed_steps(resolution: usize, steps: usize, overrides: &[&str]) -> Result<Ti
 pub fn bench_size(target_particles: usize, steps: usize, lu_max: usize) -> Result<BenchRow> {
     let resolution = (target_particles as f64).sqrt().round().max(8.0) as usize;
     let case = case_at(resolution)?;
-    let setup = scene::build(&case);
+    let setup = case.setup();
     let walls = setup.walls.clone();
     let mut sim = Simulation::new(setup);
     developed(&mut sim, &case)?;

@@ -2,7 +2,6 @@
 //! formats and charts.
 
 pub mod bench;
-pub mod checkpoint;
 pub mod cli;
 pub mod compare;
 pub mod io;

@@ -1,18 +1,28 @@
 //! The SPH engine: King & Lind's projection scheme and everything it is made of. Nothing here
 //! imports the case files, runs, studies, plots or the command line.
+//!
+//! The time step is [`step::Simulation::step`]; its stages are the modules named after the
+//! physical idea they implement.
 
 pub mod boundary;
+pub mod frame;
+pub mod free_surface;
 pub mod kernel;
 pub mod laplacian_matrix;
+pub mod lattice;
 pub mod math;
+pub mod neighbourhood;
 pub mod neighbours;
 pub mod operators;
 pub mod ordering;
+pub mod predictor;
 pub mod pressure;
+pub mod projection;
+pub mod reduce;
 pub mod rheology;
+pub mod scheme;
 pub mod shifting;
 pub mod step;
-pub mod surface;
 pub mod timing;
 pub mod viscosity;
 

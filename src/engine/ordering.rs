@@ -8,6 +8,39 @@
 use crate::engine::math::{Sym2, Vec2};
 use crate::engine::neighbours::Domain;
 
+/// Steps between Morton reorderings of moving particles: they move a fraction of δr per
+/// step, so locality decays slowly.
+pub const REORDER_INTERVAL: u64 = 50;
+
+/// When the particles are sorted, chosen at set-up from the frame and the scheme's switch.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Reordering {
+    Never,
+    /// Once, before the first step (fixed particles).
+    Once,
+    /// Every [`REORDER_INTERVAL`] steps (moving particles).
+    Periodic,
+}
+
+impl Reordering {
+    pub fn new(enabled: bool, moving: bool) -> Self {
+        match (enabled, moving) {
+            (false, _) => Reordering::Never,
+            (true, false) => Reordering::Once,
+            (true, true) => Reordering::Periodic,
+        }
+    }
+
+    /// Whether a reordering is due before step `steps`.
+    pub fn due(self, steps: u64) -> bool {
+        match self {
+            Reordering::Never => false,
+            Reordering::Once => steps == 0,
+            Reordering::Periodic => steps % REORDER_INTERVAL == 0,
+        }
+    }
+}
+
 /// Interleaves the bits of two 16-bit cell coordinates.
 fn morton(x: u32, y: u32) -> u64 {
     fn spread(v: u32) -> u64 {

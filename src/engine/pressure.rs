@@ -12,10 +12,15 @@
 //! non-singular and non-symmetric (BiCGStab does not need symmetry).
 
 use crate::engine::boundary::Ghosts;
+use crate::engine::frame::Frame;
 use crate::engine::laplacian_matrix::{LaplacianMatrix, MirrorRule};
+use crate::engine::math::Vec2;
 use crate::engine::neighbours::NeighbourList;
 use crate::engine::operators::KernelSums;
-use rheosph_solver::{SolveError, SolveReport, SolverOptions};
+use crate::engine::scheme::PpeSettings;
+use crate::engine::step::Scales;
+use rayon::prelude::*;
+use rheosph_solver::{NullSpace, SolveError, SolveReport, SolverOptions, Strategy};
 
 /// The PPE matrix, its right-hand side, and the solver.
 #[derive(Default)]
@@ -88,5 +93,138 @@ impl PressureSystem {
         options: &SolverOptions,
     ) -> Result<SolveReport, SolveError> {
         self.matrix.solve(&self.rhs, pressure, options)
+    }
+}
+
+/// Steps 5 and 6: the PPE of one step and the projection of u* with its solution.
+pub struct PressureStage {
+    system: PressureSystem,
+    settings: PpeSettings,
+    strategy: Strategy,
+    /// u* followed by the ghosts' values.
+    velocity_ext: Vec<Vec2>,
+    divergence: Vec<f64>,
+    pressure_ext: Vec<f64>,
+    gradient: Vec<Vec2>,
+    /// The matrix must be reassembled (the particle configuration changed).
+    matrix_stale: bool,
+}
+
+impl PressureStage {
+    pub fn new(settings: PpeSettings, frame: Frame) -> Self {
+        Self {
+            system: PressureSystem::new(),
+            settings,
+            strategy: settings.solver.strategy(frame),
+            velocity_ext: Vec::new(),
+            divergence: Vec::new(),
+            pressure_ext: Vec::new(),
+            gradient: Vec::new(),
+            matrix_stale: false,
+        }
+    }
+
+    /// Heap bytes held.
+    pub fn heap_bytes(&self) -> usize {
+        use crate::engine::vec_bytes as b;
+        self.system.heap_bytes()
+            + b(&self.velocity_ext)
+            + b(&self.divergence)
+            + b(&self.pressure_ext)
+            + b(&self.gradient)
+    }
+
+    /// The particle configuration changed: the matrix (and any LU factors) must be rebuilt.
+    pub fn configuration_changed(&mut self) {
+        self.matrix_stale = true;
+    }
+
+    /// Step 5: ∇·u* (negative form of (20)), with u* extended to the ghosts.
+    pub fn divergence(
+        &mut self,
+        (list, sums, ghosts): (&NeighbourList, &KernelSums, &Ghosts),
+        velocity_star: &[Vec2],
+    ) {
+        ghosts.extend_velocity(velocity_star, &mut self.velocity_ext);
+        self.divergence.resize(velocity_star.len(), 0.0);
+        sums.divergence(list, &self.velocity_ext, &mut self.divergence);
+    }
+
+    /// u* followed by the ghosts' values, after [`Self::divergence`].
+    pub fn velocity_star_ext(&self) -> &[Vec2] {
+        &self.velocity_ext
+    }
+
+    /// Step 5: the matrix (when the particles moved) and the right-hand side, with Dirichlet
+    /// rows where `rows` is set (both empty without a free surface).
+    pub fn assemble(
+        &mut self,
+        hood: (&NeighbourList, &KernelSums, &Ghosts),
+        density: f64,
+        dt: f64,
+        (rows, values): (&[bool], &[f64]),
+    ) {
+        if self.matrix_stale {
+            self.system
+                .assemble_matrix(hood.0, hood.1, hood.2, density, rows);
+        }
+        self.system.assemble_rhs(&self.divergence, dt, rows, values);
+    }
+
+    /// Step 5: solves for `unknown` (its initial guess on entry). `dirichlet`: some rows are
+    /// Dirichlet rows (otherwise the pressure is defined up to a constant).
+    pub fn solve(
+        &mut self,
+        unknown: &mut [f64],
+        dirichlet: bool,
+        scales: &Scales,
+        dt: f64,
+    ) -> Result<SolveReport, SolveError> {
+        let n = unknown.len();
+        let s = &self.settings;
+        let options = SolverOptions {
+            relative_tolerance: s.tolerance,
+            // The residual is (∇·u^{n+1})/δt per particle: stop at an r.m.s. divergence of
+            // divergence_tolerance·U/L (this also ends solves of round-off-level right-hand
+            // sides, e.g. a fluid at rest).
+            absolute_tolerance: s.divergence_tolerance * (n as f64).sqrt() * scales.velocity
+                / (scales.length * dt),
+            max_iterations: s.max_iterations,
+            null_space: if dirichlet {
+                NullSpace::None
+            } else {
+                NullSpace::Constant
+            },
+            strategy: self.strategy,
+            matrix_unchanged: !std::mem::replace(&mut self.matrix_stale, false),
+        };
+        self.system.solve(unknown, &options)
+    }
+
+    /// Step 6, eq. (26): u* −= (δt/ρ)∇φ, φ the solved field (p^{n+1} or its increment).
+    pub fn project(
+        &mut self,
+        (list, sums, ghosts): (&NeighbourList, &KernelSums, &Ghosts),
+        solved: &[f64],
+        dt_over_rho: f64,
+        velocity_star: &mut [Vec2],
+    ) {
+        ghosts.extend_scalar(solved, &mut self.pressure_ext);
+        self.gradient.resize(velocity_star.len(), Vec2::zeros());
+        sums.gradient_scalar(list, &self.pressure_ext, &mut self.gradient);
+        velocity_star
+            .par_iter_mut()
+            .zip(self.gradient.par_iter())
+            .for_each(|(u, gp)| *u -= dt_over_rho * gp);
+    }
+
+    /// Stored PPE entries of the last assembly.
+    pub fn nnz(&self) -> usize {
+        self.system.nnz()
+    }
+
+    /// LU factorisations so far.
+    pub fn factorisations(&self) -> usize {
+        self.system.factorisations()
     }
 }

@@ -1,4 +1,13 @@
 //! Set-up: case files into validated settings, and the scenes that build the engine's types.
+//!
+//! [`case::parse`] reads a file's TOML, applies `--set` [`overrides`], reads the tables
+//! ([`schema`]), lets the scene validate itself ([`scenes`]) and validates the rest
+//! ([`validate`]) into a [`case::Case`]; [`derived`] numbers follow from it.
 
 pub mod case;
-pub mod scene;
+pub mod derived;
+pub mod error;
+pub mod overrides;
+pub mod scenes;
+pub mod schema;
+mod validate;

@@ -6,6 +6,7 @@ use crate::analysis::reference::Reference;
 use crate::app::io::SeriesRow;
 use crate::app::plot::{self, Chart, Curve, CurveStyle, PALETTE};
 use crate::engine::step::Simulation;
+use crate::setup::scenes::Scene;
 use anyhow::Result;
 use std::path::Path;
 
@@ -21,12 +22,13 @@ fn analytic(points: Vec<(f64, f64)>) -> Curve {
 /// Draws every chart of the run directory.
 pub fn draw(
     dir: &Path,
-    kind: crate::setup::case::SceneKind,
+    scene: &dyn Scene,
     sim: &Simulation,
     reference: Option<&Reference>,
     rows: &[SeriesRow],
     stresses: Option<&ExactStresses>,
 ) -> Result<()> {
+    let (title, axis) = scene.characteristic_name();
     let mut curves = vec![Curve {
         label: "rheosph".into(),
         points: rows.iter().map(|r| (r.t, r.u_centre)).collect(),
@@ -52,23 +54,9 @@ pub fn draw(
     plot::draw(
         &dir.join("centre_velocity.png"),
         &Chart {
-            title: match kind {
-                crate::setup::case::SceneKind::Channel => {
-                    format!("Centre-line velocity ({})", sim.fluid.model.name())
-                }
-                crate::setup::case::SceneKind::TaylorGreen => "Taylor-Green amplitude".into(),
-                crate::setup::case::SceneKind::Drop | crate::setup::case::SceneKind::Jet => {
-                    "Centre-of-mass velocity".into()
-                }
-            },
+            title: format!("{title} ({})", sim.fluid.model.name()),
             x_label: "t".into(),
-            y_label: match kind {
-                crate::setup::case::SceneKind::Channel => "u(H/2)".into(),
-                crate::setup::case::SceneKind::TaylorGreen => "amplitude".into(),
-                crate::setup::case::SceneKind::Drop | crate::setup::case::SceneKind::Jet => {
-                    "v".into()
-                }
-            },
+            y_label: axis.into(),
             ..Default::default()
         },
         &curves,
@@ -91,11 +79,10 @@ pub fn draw(
             }],
         )?;
     }
-    match kind {
-        crate::setup::case::SceneKind::Channel => profiles(dir, sim, reference, stresses),
-        crate::setup::case::SceneKind::TaylorGreen
-        | crate::setup::case::SceneKind::Drop
-        | crate::setup::case::SceneKind::Jet => Ok(()),
+    if scene.varies_across_height() {
+        profiles(dir, sim, reference, stresses)
+    } else {
+        Ok(())
     }
 }
 

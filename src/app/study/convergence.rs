@@ -82,7 +82,7 @@ fn table(finished: &[Finished], frames: &[String]) -> Vec<Row> {
                     .any(|(k, v)| k == "frame" && v == frame)
             })
             .collect();
-        runs.sort_by_key(|f| f.case.scene.resolution);
+        runs.sort_by_key(|f| f.case.scene.resolution());
         for f in runs {
             let s = &f.summary;
             let spacing = f.case.scene.spacing();
@@ -91,7 +91,7 @@ fn table(finished: &[Finished], frames: &[String]) -> Vec<Row> {
             previous = Some((spacing, l2_mean));
             rows.push(Row {
                 frame: frame.clone(),
-                resolution: f.case.scene.resolution,
+                resolution: f.case.scene.resolution(),
                 spacing,
                 particles: s.particles,
                 steps: s.steps,

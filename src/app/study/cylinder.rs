@@ -65,7 +65,7 @@ pub fn run(
 ) -> Result<Vec<Row>> {
     let scale = base.case(&[])?;
     anyhow::ensure!(
-        scale.scene.cylinder.is_some(),
+        scale.scene.cylinder().is_some(),
         "{}: the cylinder study needs a case with [scene.cylinder]",
         base.path.display()
     );
@@ -98,7 +98,8 @@ pub fn run(
     let mut profiles: Vec<(f64, Vec<[f64; 4]>)> = Vec::new();
     for (f, &wi) in finished.iter().zip(wis) {
         let s = &f.summary;
-        let st = s.steady.as_ref();
+        let st = s.steady();
+        let st = st.as_ref();
         rows.push(Row {
             wi,
             outcome: format!("{:?}", s.outcome),

@@ -63,7 +63,7 @@ pub fn run(
                 .iter()
                 .find(|(k, _)| k == "variant")
                 .map_or(String::new(), |(_, v)| v.clone()),
-            resolution: f.case.scene.resolution,
+            resolution: f.case.scene.resolution(),
             wall_seconds: f.summary.wall_seconds,
             l2_mean: f.summary.errors.l2_time_mean.unwrap_or(f64::NAN),
             l2_final: f.summary.errors.l2_final.unwrap_or(f64::NAN),

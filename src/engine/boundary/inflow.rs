@@ -10,7 +10,8 @@
 //! p = 0, the ambient pressure of a jet leaving an orifice open on three sides (where the
 //! paper uses a Neumann condition on ghosts behind a wall; our buffer has none).
 
-use crate::engine::math::Vec2;
+use crate::engine::math::{Sym2, Vec2};
+use crate::engine::step::State;
 
 /// Buffer rows: more than the kernel support (3.9δr), so a released particle has a full
 /// neighbourhood above it.
@@ -81,6 +82,39 @@ impl Inflow {
         }
         self.flags.extend(std::iter::repeat_n(true, added.len()));
         added
+    }
+
+    /// Sets the buffer particles' entries of `values` (a velocity or shift) to `value`.
+    pub fn prescribe(&self, values: &mut [Vec2], value: Vec2) {
+        for (v, _) in values.iter_mut().zip(&self.flags).filter(|(_, &b)| b) {
+            *v = value;
+        }
+    }
+
+    /// After step 7: buffer particles keep the rest conformation `rest` (no polymer stress
+    /// enters), those below the orifice are released, and new rows join the buffer on top.
+    pub fn feed(&mut self, rest: Sym2, dt: f64, state: &mut State) {
+        let viscoelastic = !state.conformation.is_empty();
+        if viscoelastic {
+            for (a, _) in state
+                .conformation
+                .iter_mut()
+                .zip(&self.flags)
+                .filter(|(_, &b)| b)
+            {
+                *a = rest;
+            }
+        }
+        let added = self.advance(dt, &state.position);
+        for p in added {
+            state.position.push(p);
+            state.velocity.push(self.velocity);
+            state.pressure.push(0.0);
+            state.shift_velocity.push(Vec2::zeros());
+            if viscoelastic {
+                state.conformation.push(rest);
+            }
+        }
     }
 
     /// Particles in the buffer.

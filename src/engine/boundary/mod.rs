@@ -28,6 +28,16 @@ pub struct Wall {
 }
 
 impl Wall {
+    /// The wall y = 0 with the fluid above: a channel's bottom wall, a drop's or a jet's
+    /// plate.
+    pub fn floor() -> Self {
+        Wall {
+            axis: 1,
+            position: 0.0,
+            fluid_side: 1.0,
+        }
+    }
+
     /// Signed distance of `p` from the wall, positive in the fluid.
     pub fn distance(&self, p: &Vec2) -> f64 {
         (p[self.axis] - self.position) * self.fluid_side
@@ -119,7 +129,8 @@ impl Surface {
 }
 
 /// How a tensor is carried onto a wall's mirror particle.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum TensorMirror {
     /// `A_j = A_i`: even across a no-slip wall (the default; see module docs).
     #[default]

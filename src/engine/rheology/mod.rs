@@ -2,99 +2,19 @@
 //! and the integration of the conformation tensor: log-conformation (eqs. (12)–(19),
 //! (29)–(32)) or direct first-order Euler on A (eq. (10)).
 
+pub mod conformation;
+pub mod direct;
+pub mod log_conformation;
 pub mod models;
 
-use crate::engine::math::{Mat2, Sym2};
-pub use models::{Constitutive, ExponentialPtt, FeneCr, FeneP, Giesekus, LinearPtt, OldroydB};
-
-/// The fluid's constitutive model: a Newtonian fluid or one of the types of Table I.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Model {
-    /// No polymer: τ = 2η0 D. No conformation tensor is stored or integrated.
-    Newtonian,
-    OldroydB,
-    /// Upper-convected Maxwell: Oldroyd-B with β = 0.
-    Ucm,
-    FeneP(FeneP),
-    FeneCr(FeneCr),
-    LinearPtt(LinearPtt),
-    ExponentialPtt(ExponentialPtt),
-    Giesekus(Giesekus),
-}
-
-impl Model {
-    pub fn name(&self) -> &'static str {
-        match self {
-            Model::Newtonian => "newtonian",
-            Model::OldroydB => "oldroyd-b",
-            Model::Ucm => "ucm",
-            Model::FeneP(_) => "fene-p",
-            Model::FeneCr(_) => "fene-cr",
-            Model::LinearPtt(_) => "lptt",
-            Model::ExponentialPtt(_) => "eptt",
-            Model::Giesekus(_) => "giesekus",
-        }
-    }
-
-    pub fn is_viscoelastic(&self) -> bool {
-        !matches!(self, Model::Newtonian)
-    }
-
-    /// The Table I functions of a viscoelastic model.
-    #[inline]
-    pub fn constitutive(&self) -> Option<&dyn Constitutive> {
-        match self {
-            Model::Newtonian => None,
-            Model::OldroydB | Model::Ucm => Some(&OldroydB),
-            Model::FeneP(m) => Some(m),
-            Model::FeneCr(m) => Some(m),
-            Model::LinearPtt(m) => Some(m),
-            Model::ExponentialPtt(m) => Some(m),
-            Model::Giesekus(m) => Some(m),
-        }
-    }
-
-    /// Strain function f_S(A), eq. (9) (zero for a Newtonian fluid).
-    pub fn strain(&self, a: &Sym2) -> Sym2 {
-        self.constitutive().map_or(Sym2::ZERO, |m| m.strain(a))
-    }
-
-    /// Relaxation function f_R(A), eq. (10).
-    pub fn relaxation(&self, a: &Sym2) -> Sym2 {
-        self.constitutive().map_or(Sym2::ZERO, |m| m.relaxation(a))
-    }
-
-    /// `(α_R, β_R)` with f_R = α_R(β_R A − I), for the quasi-analytic source step (32).
-    pub fn relaxation_coefficients(&self, a: &Sym2) -> Option<(f64, f64)> {
-        self.constitutive()
-            .and_then(|m| m.relaxation_coefficients(a))
-    }
-
-    /// Conformation of the fluid at rest.
-    pub fn rest_conformation(&self) -> Sym2 {
-        self.constitutive()
-            .map_or(Sym2::IDENTITY, |m| m.rest_conformation())
-    }
-
-    /// Inverts f_S (§III B, Step 1): the conformation whose strain function is `strain`
-    /// (= λτ_p/η_p), given tr A where f_S depends on it (the paper stores tr A for this).
-    pub fn conformation_from_strain(&self, strain: &Sym2, trace: f64) -> Sym2 {
-        match self {
-            Model::FeneP(m) => (*strain + Sym2::IDENTITY) * (1.0 - trace / m.l2),
-            Model::FeneCr(m) => *strain * (1.0 - trace / m.l2) + Sym2::IDENTITY,
-            _ => *strain + Sym2::IDENTITY,
-        }
-    }
-}
-
-/// How the conformation tensor is integrated in time.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ConformationScheme {
-    /// Log-conformation with source splitting, §III B.
-    Log,
-    /// First-order Euler on A itself, eq. (10): not positive-definite by construction.
-    Direct,
-}
+use crate::engine::math::Sym2;
+pub use conformation::{ConformationScheme, ConformationStage};
+pub use direct::direct_step;
+pub use log_conformation::{log_conformation_step, log_convective_term, relax};
+pub use models::{
+    Constitutive, ExponentialPtt, FeneCr, FeneP, Giesekus, LinearPtt, Model, ModelEntry, OldroydB,
+    Solvent, MODELS,
+};
 
 /// Material constants of the fluid.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -128,81 +48,10 @@ impl Fluid {
     }
 }
 
-/// The convective part of the log-conformation equation (30a) without advection,
-/// `ΩΨ − ΨΩ + 2B`, from the decomposition (14)–(19) of the velocity gradient
-/// `grad_u[(a, b)] = ∂u_a/∂x_b` about the eigenvectors of A.
-///
-/// Evaluated in the eigenbasis, where with m = Rᵀ∇uR and ψ_k = ln Λ_k it reads
-/// `diag(2m11, 2m22)` plus the off-diagonal `ω(ψ2 − ψ1)`, ω from eq. (19). We compute the
-/// product `ω(ψ2 − ψ1) = (Λ2 m12 + Λ1 m21)·(ln Λ2 − ln Λ1)/(Λ2 − Λ1)` directly: it stays
-/// finite as Λ1 → Λ2, where ω alone diverges, and tends to m12 + m21 there (the limit in
-/// which B = D and Ω = 0, Fattal & Kupferman 2004).
-pub fn log_convective_term(a: &Sym2, grad_u: &Mat2) -> Sym2 {
-    let e = a.eigen();
-    let r = e.rotation();
-    let m = r.transpose() * grad_u * r;
-    let [l1, l2] = e.values;
-    let off = (l2 * m[(0, 1)] + l1 * m[(1, 0)]) * log_difference_quotient(l1, l2);
-    let in_eigenbasis = Sym2::new(2.0 * m[(0, 0)], off, 2.0 * m[(1, 1)]);
-    in_eigenbasis.congruence(&r)
-}
-
-/// `(ln a − ln b)/(a − b)`, stable as a → b (where it tends to 1/b).
-fn log_difference_quotient(a: f64, b: f64) -> f64 {
-    let d = (a - b) / b;
-    if d.abs() < 1e-6 {
-        (1.0 - 0.5 * d + d * d / 3.0) / b
-    } else {
-        d.ln_1p() / (a - b)
-    }
-}
-
-/// Source step (29b) over δt: quasi-analytic (32) where f_R = α_R(β_R A − I), explicit Euler
-/// (33) otherwise.
-pub fn relax(model: &Model, a: &Sym2, dt: f64, lambda: f64) -> Sym2 {
-    match model.relaxation_coefficients(a) {
-        Some((alpha, beta)) => {
-            let decay = (-alpha * beta * dt / lambda).exp();
-            *a * decay + Sym2::IDENTITY * ((1.0 - decay) / beta)
-        }
-        None => *a - model.relaxation(a) * (dt / lambda),
-    }
-}
-
-/// One log-conformation update of a particle, §III B Steps 2–7:
-/// `Ψ* = Ψ + δt[u_ps·∇Ψ + ΩΨ − ΨΩ + 2B]` (eq. (31); the paper's "−2B" there is a sign typo,
-/// cf. (30a)), `A* = exp Ψ*`, then the source step (32)/(33).
-pub fn log_conformation_step(
-    model: &Model,
-    a: &Sym2,
-    psi: &Sym2,
-    advection_psi: &Sym2,
-    grad_u: &Mat2,
-    dt: f64,
-    lambda: f64,
-) -> Sym2 {
-    let psi_star = *psi + (*advection_psi + log_convective_term(a, grad_u)) * dt;
-    relax(model, &psi_star.exp(), dt, lambda)
-}
-
-/// One direct first-order Euler update of A, eq. (10) with (11):
-/// `A + δt[u_ps·∇A + ∇u·A + A·∇uᵀ − f_R(A)/λ]`.
-pub fn direct_step(
-    model: &Model,
-    a: &Sym2,
-    advection_a: &Sym2,
-    grad_u: &Mat2,
-    dt: f64,
-    lambda: f64,
-) -> Sym2 {
-    let stretch = grad_u * a.to_mat();
-    let upper_convected = Sym2::sym_part(&(stretch + stretch.transpose()));
-    *a + (*advection_a + upper_convected - model.relaxation(a) * (1.0 / lambda)) * dt
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::engine::math::Mat2;
 
     /// The decomposition must reproduce d(ln A)/dt for dA/dt = ∇u·A + A·∇uᵀ: compare with a
     /// central difference of the matrix logarithm along the exact flow, including the

@@ -8,6 +8,8 @@
 //! conserved by construction, so what can drift is how tightly the particles pack. Its drift
 //! is relative to the first step's value.
 
+use super::Probe;
+use crate::app::io::{self, SeriesRow};
 use crate::app::plot::{self, Chart, Curve, CurveStyle, PALETTE};
 use crate::engine::step::Simulation;
 use anyhow::Result;
@@ -60,7 +62,7 @@ impl DropProbe {
     }
 
     /// Rows of a resumed run up to time `t` (from its `drop.csv`).
-    pub fn restore(&mut self, dir: &Path, t: f64) -> Result<()> {
+    fn restore_rows(&mut self, dir: &Path, t: f64) -> Result<()> {
         let text = std::fs::read_to_string(dir.join("drop.csv"))?;
         for line in text.lines().skip(1) {
             let v: Vec<f64> = line.split(',').filter_map(|s| s.parse().ok()).collect();
@@ -82,7 +84,7 @@ impl DropProbe {
     }
 
     /// Appends the current shape.
-    pub fn record(&mut self, sim: &Simulation) {
+    fn record_shape(&mut self, sim: &Simulation) {
         let s = &sim.state;
         let (mut lo, mut hi) = (s.position[0], s.position[0]);
         for p in &s.position {
@@ -198,5 +200,36 @@ impl DropProbe {
             },
             &[curve("", |r| r.area_drift, PALETTE[0])],
         )
+    }
+}
+
+impl Probe for DropProbe {
+    fn name(&self) -> &'static str {
+        "drop"
+    }
+
+    fn record(&mut self, sim: &mut Simulation, _rows: &[SeriesRow]) {
+        self.record_shape(sim);
+    }
+
+    fn restore(&mut self, dir: &Path, t: f64, _state: Option<&serde_json::Value>) -> Result<()> {
+        self.restore_rows(dir, t)
+    }
+
+    fn write(&self, dir: &Path) -> Result<()> {
+        io::write_atomic(&dir.join("drop.csv"), self.csv().as_bytes())
+    }
+
+    fn finish(
+        &mut self,
+        _sim: &mut Simulation,
+        _rows: &[SeriesRow],
+        dir: &Path,
+        charts: bool,
+    ) -> Result<Option<serde_json::Value>> {
+        if charts {
+            self.charts(dir)?;
+        }
+        Ok(self.summary().map(serde_json::to_value).transpose()?)
     }
 }

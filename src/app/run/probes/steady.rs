@@ -126,7 +126,7 @@ impl Averages {
 }
 
 /// `summary.json`'s `steady` entry (runs with a cylinder).
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct SteadySummary {
     /// When the criterion was met (None: not met before the end time; the averages are then
     /// over the last `average` time units and are not steady values).

@@ -9,7 +9,7 @@
 //! into the matrix. Both velocity components share the matrix; each is solved by
 //! warm-started BiCGStab from u^n (sparse-LU fallback). The matrix is diagonally dominant
 //! (an M-matrix in full support), so the solve is cheap, and δt is freed from the viscous
-//! limit ρh²/η0 of (28): see [`crate::engine::step::Simulation::stable_dt`].
+//! limit ρh²/η0 of (28): see [`super::Viscosity::dt_limit`].
 
 use crate::engine::boundary::Ghosts;
 use crate::engine::laplacian_matrix::{LaplacianMatrix, MirrorRule};

@@ -7,6 +7,8 @@
 //! that |x_b| exceeds D/4; the frequency counts sign changes of x_b after onset (two per
 //! period).
 
+use super::Probe;
+use crate::app::io::{self, SeriesRow};
 use crate::app::plot::{self, Chart, Curve, CurveStyle, PALETTE};
 use crate::engine::step::Simulation;
 use anyhow::Result;
@@ -54,7 +56,7 @@ impl JetProbe {
         }
     }
 
-    pub fn record(&mut self, sim: &Simulation) {
+    fn record_state(&mut self, sim: &Simulation) {
         let d = self.width;
         let s = &sim.state;
         let buffer = sim.inflow.as_ref().map(|b| b.flags.as_slice());
@@ -159,5 +161,32 @@ impl JetProbe {
                 },
             ],
         )
+    }
+}
+
+impl Probe for JetProbe {
+    fn name(&self) -> &'static str {
+        "jet"
+    }
+
+    fn record(&mut self, sim: &mut Simulation, _rows: &[SeriesRow]) {
+        self.record_state(sim);
+    }
+
+    fn write(&self, dir: &Path) -> Result<()> {
+        io::write_atomic(&dir.join("jet.csv"), self.csv().as_bytes())
+    }
+
+    fn finish(
+        &mut self,
+        sim: &mut Simulation,
+        _rows: &[SeriesRow],
+        dir: &Path,
+        charts: bool,
+    ) -> Result<Option<serde_json::Value>> {
+        if charts {
+            self.charts(dir)?;
+        }
+        Ok(Some(serde_json::to_value(self.summary(sim.spacing))?))
     }
 }

@@ -1,5 +1,9 @@
-//! Checkpoints: the state of a [`Simulation`] in a small binary file from which a run continues
-//! bit-identically to one never interrupted.
+//! Checkpoints: the run loop's state and the state of its [`Simulation`] in one file
+//! (`checkpoint.bin` in the run directory), from which a run continues bit-identically to one
+//! never interrupted. This file owns the format.
+//!
+//! The file is the loop state as JSON, prefixed by its length (u64, little-endian), followed
+//! by the simulation's checkpoint ([`encode`]).
 //!
 //! A step depends on nothing but [`State`] and caches that are rebuilt deterministically from
 //! it: the Morton reordering is due by step count, the PPE and implicit viscous solves are
@@ -7,7 +11,7 @@
 //! and the neighbour lists, kernel sums, matrices and LU factors are recomputed from the
 //! positions (an Eulerian run rebuilds its fixed lists and refactorises once after a restore).
 //!
-//! Format, version 1, all numbers little-endian, f64 as raw IEEE bits:
+//! The simulation's part, version 1, all numbers little-endian, f64 as raw IEEE bits:
 //!
 //! ```text
 //!     magic      9 bytes  "RHEOSPHCK"
@@ -25,9 +29,9 @@
 //!     checksum   u64      FNV-1a of every preceding byte
 //! ```
 
+use crate::engine::frame::Frame;
 use crate::engine::math::{Sym2, Vec2};
 use crate::engine::step::{Simulation, State};
-use crate::setup::case::Frame;
 use std::path::Path;
 
 /// The first bytes of every checkpoint.
@@ -278,4 +282,45 @@ pub fn write(path: &Path, sim: &Simulation) -> std::io::Result<()> {
 pub fn read(path: &Path, sim: &mut Simulation) -> Result<(), CheckpointError> {
     let bytes = std::fs::read(path)?;
     restore(sim, &bytes)
+}
+
+/// The checkpoint file of a run directory.
+pub const CHECKPOINT_FILE: &str = "checkpoint.bin";
+
+/// The run loop's own state, saved with each checkpoint.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct LoopState {
+    pub case_name: String,
+    pub cadence: super::cadence::Cadence,
+    pub window: super::summary::PpeWindow,
+    pub totals: super::summary::PpeWindow,
+    pub last_dt: f64,
+    /// The `.vtu` snapshots written so far (time, file).
+    pub snapshots: Vec<(f64, String)>,
+    /// The probes' own state, by name.
+    #[serde(default)]
+    pub probes: std::collections::BTreeMap<String, serde_json::Value>,
+}
+
+/// Writes the checkpoint file: the loop state and the simulation, atomically.
+pub fn save(dir: &Path, state: &LoopState, sim: &Simulation) -> anyhow::Result<()> {
+    let json = serde_json::to_vec(state)?;
+    let mut bytes = (json.len() as u64).to_le_bytes().to_vec();
+    bytes.extend_from_slice(&json);
+    bytes.extend_from_slice(&encode(sim));
+    crate::app::io::write_atomic(&dir.join(CHECKPOINT_FILE), &bytes)
+}
+
+/// Reads a run directory's checkpoint file: the loop state and the simulation's bytes (for
+/// [`restore`]).
+pub fn load(dir: &Path) -> anyhow::Result<(LoopState, Vec<u8>)> {
+    use anyhow::Context;
+    let path = dir.join(CHECKPOINT_FILE);
+    let mut bytes = std::fs::read(&path).with_context(|| format!("reading {}", path.display()))?;
+    anyhow::ensure!(bytes.len() >= 8, "{CHECKPOINT_FILE}: truncated");
+    let json_len = u64::from_le_bytes(bytes[..8].try_into()?) as usize;
+    anyhow::ensure!(bytes.len() >= 8 + json_len, "{CHECKPOINT_FILE}: truncated");
+    let state: LoopState = serde_json::from_slice(&bytes[8..8 + json_len])
+        .with_context(|| format!("{CHECKPOINT_FILE}: bad run state"))?;
+    Ok((state, bytes.split_off(8 + json_len)))
 }

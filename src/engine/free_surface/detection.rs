@@ -1,5 +1,5 @@
-//! Free surfaces (King & Lind §III C–D, eqs. (34)–(39)): which particles lie on the surface,
-//! which way it faces, and the pressure the normal-stress balance puts there.
+//! Free-surface detection (King & Lind §III D, eqs. (36)–(39)): which particles lie on the
+//! surface and which way it faces.
 //!
 //! * Detection, eqs. (36)–(37): particle i is on the free surface (set FS) when
 //!   `⟨∇·r⟩_i ≤ 1.4 + 0.5 max(Ĉ_i − 1, −0.2)`, with `⟨∇·r⟩_i = Σ_j (r_j − r_i)·∇W_ij δV`
@@ -10,14 +10,12 @@
 //!   so the minus sign makes n* point out of the fluid), smoothed as
 //!   `n_i = Σ_j V_j n*_j W_ij / C_j` over fluid neighbours and self, then normalised.
 //! * Near-surface set NS: particles with at least one FS neighbour.
-//! * Dirichlet pressure, eq. (35a): `p = 2η_s n·D·n + n·τ_p·n`, the normal component of
-//!   σ·n = 0 (34), evaluated with the predictor's velocity gradient and τ_p^{n+½}.
 //!
 //! Mirror particles of a plate count as neighbours (a wall is not a free surface), but their
 //! own normals are not smoothed into a fluid particle's.
 
 use crate::engine::kernel::QuinticSpline;
-use crate::engine::math::{Mat2, Sym2, Vec2};
+use crate::engine::math::Vec2;
 use crate::engine::neighbours::NeighbourList;
 use crate::engine::operators::KernelSums;
 use rayon::prelude::*;
@@ -162,18 +160,6 @@ impl FreeSurface {
     }
 }
 
-/// The free-surface pressure of the normal-stress condition (35a):
-/// `p = 2η_s [n_x² ∂u/∂x + n_y² ∂v/∂y + n_x n_y (∂u/∂y + ∂v/∂x)] + n·τ_p·n`,
-/// with `grad_u[(a, b)] = ∂u_a/∂x_b`.
-pub fn normal_stress_pressure(normal: Vec2, grad_u: &Mat2, tau_p: &Sym2, eta_s: f64) -> f64 {
-    let (nx, ny) = (normal.x, normal.y);
-    let viscous = nx * nx * grad_u[(0, 0)]
-        + ny * ny * grad_u[(1, 1)]
-        + nx * ny * (grad_u[(0, 1)] + grad_u[(1, 0)]);
-    let polymer = nx * nx * tau_p.xx + 2.0 * nx * ny * tau_p.xy + ny * ny * tau_p.yy;
-    2.0 * eta_s * viscous + polymer
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -223,7 +209,7 @@ mod tests {
         assert!(strength[3] < NEAR_SURFACE_STRENGTH, "{strength:?}");
     }
 
-    /// A disc of radius 20 δr built of concentric rings (as drops are, [`crate::setup::scene::disc`]):
+    /// A disc of radius 20 δr built of concentric rings (as drops are, [`crate::engine::lattice::disc`]):
     /// FS is exactly the outer ring, and its normals point along the radius within 2° (the
     /// ring's discreteness and the inner rings' offsets tilt the kernel-weighted normal only
     /// slightly).
@@ -231,7 +217,7 @@ mod tests {
     fn detection_and_normals_of_a_disc() {
         let (radius, dr) = (0.2, 0.01);
         let centre = Vec2::new(0.5, 0.5);
-        let points = crate::setup::scene::disc(centre, radius, dr);
+        let points = crate::engine::lattice::disc(centre, radius, dr);
         let fs = detect(&points, dr);
         let outer_radius = radius - 0.5 * dr;
         let mut worst: f64 = 0.0;
@@ -251,37 +237,5 @@ mod tests {
             }
         }
         assert!(worst < 2.0, "worst normal deviation {worst:.3}°");
-    }
-
-    /// (35a) for prescribed states: a flat surface facing +y under a pure polymer stress τ_yy
-    /// carries p = τ_yy; facing +x under extension ∂u/∂x = a, p = 2η_s a; and for an oblique
-    /// normal p equals n·(2η_s D + τ_p)·n, the normal component of σ·n = 0 with σ = τ − pI.
-    #[test]
-    fn dirichlet_pressure_is_the_normal_stress_balance() {
-        let tau = Sym2 {
-            xx: 0.3,
-            xy: -0.7,
-            yy: 2.5,
-        };
-        assert!(
-            (normal_stress_pressure(Vec2::new(0.0, 1.0), &Mat2::zeros(), &tau, 1.0) - 2.5).abs()
-                < 1e-14
-        );
-        let stretch = Mat2::new(0.8, 0.0, 0.0, -0.8);
-        assert!(
-            (normal_stress_pressure(Vec2::new(1.0, 0.0), &stretch, &Sym2::ZERO, 3.0) - 4.8).abs()
-                < 1e-14
-        );
-        let n = Vec2::new(0.6, -0.8);
-        let g = Mat2::new(0.2, -1.1, 0.4, 0.5);
-        let eta_s = 0.7;
-        let d = (g + g.transpose()) * 0.5;
-        let t = Mat2::new(tau.xx, tau.xy, tau.xy, tau.yy);
-        let total = 2.0 * eta_s * d + t;
-        let p = normal_stress_pressure(n, &g, &tau, eta_s);
-        assert!((p - n.dot(&(total * n))).abs() < 1e-14);
-        // With that p, σ·n = (τ_total − pI)·n has no normal component.
-        let sigma_n = total * n - p * n;
-        assert!(sigma_n.dot(&n).abs() < 1e-14);
     }
 }

@@ -1,0 +1,170 @@
+//! A solid cylinder in the flow (the periodic array, the confined cylinder): its drag K =
+//! F_x/(η0⟨u⟩) and parts in every series row, the steady state of ⟨u⟩ and the averages after
+//! it (`[run.steady]`, King & Lind §IV B), `centreline.csv` and the cylinder charts.
+
+use super::steady::{Averages, SteadySummary};
+use super::Probe;
+use crate::analysis::centreline::Centreline;
+use crate::analysis::forces;
+use crate::app::io::{self, SeriesRow};
+use crate::app::run::charts;
+use crate::engine::boundary::Circle;
+use crate::engine::step::Simulation;
+use crate::engine::timing::Stage;
+use crate::setup::case::{Case, SteadyCriterion};
+use anyhow::Result;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+use std::time::Instant;
+
+/// The cylinder probe.
+pub struct CylinderProbe {
+    circle: Circle,
+    /// Surface points of the force integral: about two per particle spacing of arc.
+    samples: usize,
+    centreline: Centreline,
+    criterion: Option<SteadyCriterion>,
+    state: SteadyState,
+}
+
+/// What a checkpoint keeps: when the flow became steady and the averages since.
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+struct SteadyState {
+    steady_at: Option<f64>,
+    averages: Option<Averages>,
+}
+
+impl CylinderProbe {
+    pub fn new(case: &Case, circle: Circle) -> Self {
+        let arc = 2.0 * std::f64::consts::PI * circle.radius / case.scene.spacing();
+        let centre = [circle.centre.x, circle.centre.y];
+        Self {
+            circle,
+            samples: ((2.0 * arc).ceil() as usize).max(64),
+            centreline: Centreline::new(centre, circle.radius, case.scene.length(), 161),
+            criterion: case.steady,
+            state: SteadyState::default(),
+        }
+    }
+
+    /// The averages of the steady window, or the final state alone without one.
+    fn averages(&mut self, sim: &Simulation, rows: &[SeriesRow]) -> Averages {
+        match self.state.averages.take() {
+            Some(a) if a.samples > 0 => a,
+            _ => {
+                let mut a = Averages::new(sim.state.time);
+                let profile = self.centreline.sample(sim, &sim.polymer_stress());
+                if let Some(last) = rows.last() {
+                    a.add(last, &profile);
+                }
+                a
+            }
+        }
+    }
+}
+
+impl Probe for CylinderProbe {
+    fn name(&self) -> &'static str {
+        "steady"
+    }
+
+    /// K and its pressure, solvent and polymer parts.
+    fn fill_row(&mut self, sim: &mut Simulation, row: &mut SeriesRow) {
+        let t0 = Instant::now();
+        let f = forces::on_cylinder(sim, &self.circle, self.samples);
+        let scale = 1.0 / (sim.fluid.viscosity * row.u_mean);
+        row.drag_k = f.total().x * scale;
+        row.k_pressure = f.pressure[0] * scale;
+        row.k_solvent = f.solvent[0] * scale;
+        row.k_polymer = f.polymer[0] * scale;
+        sim.timers
+            .add(Stage::Diagnostics, t0.elapsed().as_secs_f64());
+    }
+
+    fn record(&mut self, _sim: &mut Simulation, _rows: &[SeriesRow]) {}
+
+    /// Once steady, averages each row; when ⟨u⟩ first meets the criterion, ends the run
+    /// after the averaging time.
+    fn end_time(&mut self, sim: &mut Simulation, rows: &[SeriesRow]) -> Option<f64> {
+        let criterion = self.criterion?;
+        match self.state.averages.as_mut() {
+            Some(avg) => {
+                let t0 = Instant::now();
+                let profile = self.centreline.sample(sim, &sim.polymer_stress());
+                avg.add(&rows[rows.len() - 1], &profile);
+                sim.timers
+                    .add(Stage::Diagnostics, t0.elapsed().as_secs_f64());
+                None
+            }
+            None => {
+                let t = criterion.reached(rows)?;
+                self.state.steady_at = Some(t);
+                self.state.averages = Some(Averages::new(t));
+                Some(t + criterion.average)
+            }
+        }
+    }
+
+    fn checkpoint(&self) -> Option<serde_json::Value> {
+        serde_json::to_value(&self.state).ok()
+    }
+
+    fn restore(&mut self, _dir: &Path, _t: f64, state: Option<&serde_json::Value>) -> Result<()> {
+        if let Some(v) = state {
+            self.state = serde_json::from_value(v.clone())?;
+        }
+        Ok(())
+    }
+
+    /// `centreline.csv` and the cylinder charts; the `steady` summary.
+    fn finish(
+        &mut self,
+        sim: &mut Simulation,
+        rows: &[SeriesRow],
+        dir: &Path,
+        charts: bool,
+    ) -> Result<Option<serde_json::Value>> {
+        let avg = self.averages(sim, rows);
+        let eta_s = sim.fluid.solvent_viscosity();
+        let radius = self.circle.radius;
+        let summary = avg.summary(self.state.steady_at, eta_s, radius, &self.centreline.s);
+        let csv = centreline_csv(&self.centreline, &avg, &summary, eta_s, radius);
+        io::write_atomic(&dir.join("centreline.csv"), csv.as_bytes())?;
+        if charts {
+            let c = self.circle.centre;
+            charts::cylinder(
+                dir,
+                sim,
+                rows,
+                &crate::analysis::centreline::parse_csv(&csv),
+                ((c.x, c.y), radius),
+            )?;
+        }
+        Ok(Some(serde_json::to_value(summary)?))
+    }
+}
+
+/// `centreline.csv`: s (0 at the cylinder's downstream edge), u/⟨u⟩, τ_xx/(η_s⟨u⟩/R), det A,
+/// time-averaged over the steady window.
+fn centreline_csv(
+    line: &Centreline,
+    avg: &Averages,
+    summary: &SteadySummary,
+    eta_s: f64,
+    radius: f64,
+) -> String {
+    let profile = avg.profile();
+    let u = summary.u_mean;
+    let tau_scale = eta_s * u / radius;
+    let mut out = String::from("s,u_over_umean,tau_xx_scaled,det_a\n");
+    for k in 0..line.s.len() {
+        out.push_str(&format!(
+            "{:.6e},{:.8e},{:.8e},{:.8e}\n",
+            line.s[k],
+            profile.u[k] / u,
+            profile.tau_xx[k] / tau_scale,
+            profile.det_a[k]
+        ));
+    }
+    out
+}

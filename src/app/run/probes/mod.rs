@@ -1,0 +1,131 @@
+//! Run probes: what a scene records beside `series.csv` at every output time — a drop's
+//! shape (`drop.csv`), a jet's buckling (`jet.csv`), a cylinder's drag, steady state and
+//! wake (`centreline.csv`) — each with its charts and its entry in `summary.json`.
+//!
+//! To add a probe: a file here implementing [`Probe`], and one line in [`Probes::for_case`]
+//! that decides when it applies.
+
+pub mod cylinder;
+pub mod drop;
+pub mod jet;
+pub mod steady;
+
+use crate::app::io::SeriesRow;
+use crate::engine::step::Simulation;
+use crate::setup::case::Case;
+use anyhow::Result;
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// Something a run records at every output time.
+pub trait Probe {
+    /// Its name: the key of its entry in `summary.json` and in checkpoints.
+    fn name(&self) -> &'static str;
+    /// Fills its own columns of the series row of the current state.
+    fn fill_row(&mut self, _sim: &mut Simulation, _row: &mut SeriesRow) {}
+    /// Records the current state (`rows` ends with its series row).
+    fn record(&mut self, sim: &mut Simulation, rows: &[SeriesRow]);
+    /// After a regular output row: an earlier end time, if the run should stop (e.g. once a
+    /// steady state has been averaged).
+    fn end_time(&mut self, _sim: &mut Simulation, _rows: &[SeriesRow]) -> Option<f64> {
+        None
+    }
+    /// Its state for a checkpoint.
+    fn checkpoint(&self) -> Option<serde_json::Value> {
+        None
+    }
+    /// A resumed run: its rows up to time `t` (from its files in `dir`) and its checkpointed
+    /// state.
+    fn restore(&mut self, _dir: &Path, _t: f64, _state: Option<&serde_json::Value>) -> Result<()> {
+        Ok(())
+    }
+    /// Writes its files beside `series.csv`, atomically.
+    fn write(&self, _dir: &Path) -> Result<()> {
+        Ok(())
+    }
+    /// At the end of the run: its final files and charts (with `charts`), and its summary.
+    fn finish(
+        &mut self,
+        sim: &mut Simulation,
+        rows: &[SeriesRow],
+        dir: &Path,
+        charts: bool,
+    ) -> Result<Option<serde_json::Value>>;
+}
+
+/// The probes of a run.
+pub struct Probes(Vec<Box<dyn Probe>>);
+
+impl Probes {
+    /// The probes that apply to a case.
+    pub fn for_case(case: &Case) -> Self {
+        let scene = &case.scene;
+        let mut probes: Vec<Box<dyn Probe>> = Vec::new();
+        if let Some(c) = scene.cylinder() {
+            probes.push(Box::new(cylinder::CylinderProbe::new(case, c)));
+        }
+        if let Some(d) = scene.drop_shape() {
+            probes.push(Box::new(drop::DropProbe::new(d.diameter, d.speed)));
+        }
+        if let Some(j) = scene.jet_shape() {
+            probes.push(Box::new(jet::JetProbe::new(j.width)));
+        }
+        Self(probes)
+    }
+
+    /// Fills the probes' columns of `row`.
+    pub fn fill_row(&mut self, sim: &mut Simulation, row: &mut SeriesRow) {
+        self.0.iter_mut().for_each(|p| p.fill_row(sim, row));
+    }
+
+    pub fn record(&mut self, sim: &mut Simulation, rows: &[SeriesRow]) {
+        self.0.iter_mut().for_each(|p| p.record(sim, rows));
+    }
+
+    /// The earliest end time any probe asks for.
+    pub fn end_time(&mut self, sim: &mut Simulation, rows: &[SeriesRow]) -> Option<f64> {
+        self.0
+            .iter_mut()
+            .filter_map(|p| p.end_time(sim, rows))
+            .reduce(f64::min)
+    }
+
+    pub fn checkpoint(&self) -> BTreeMap<String, serde_json::Value> {
+        self.0
+            .iter()
+            .filter_map(|p| p.checkpoint().map(|v| (p.name().to_string(), v)))
+            .collect()
+    }
+
+    pub fn restore(
+        &mut self,
+        dir: &Path,
+        t: f64,
+        state: &BTreeMap<String, serde_json::Value>,
+    ) -> Result<()> {
+        self.0
+            .iter_mut()
+            .try_for_each(|p| p.restore(dir, t, state.get(p.name())))
+    }
+
+    pub fn write(&self, dir: &Path) -> Result<()> {
+        self.0.iter().try_for_each(|p| p.write(dir))
+    }
+
+    /// Final files, charts and the summary entries by name.
+    pub fn finish(
+        &mut self,
+        sim: &mut Simulation,
+        rows: &[SeriesRow],
+        dir: &Path,
+        charts: bool,
+    ) -> Result<BTreeMap<&'static str, serde_json::Value>> {
+        let mut entries = BTreeMap::new();
+        for p in self.0.iter_mut() {
+            if let Some(v) = p.finish(sim, rows, dir, charts)? {
+                entries.insert(p.name(), v);
+            }
+        }
+        Ok(entries)
+    }
+}

@@ -1,0 +1,360 @@
+//! The time loop of a run: step the simulation, and at the [`Cadence`]'s times write series
+//! rows, probe records, snapshots and checkpoints; stop at the end time or a breakdown.
+
+use super::cadence::Cadence;
+use super::charts;
+use super::checkpoint::{self, LoopState, CHECKPOINT_FILE};
+use super::errors;
+use super::probes::Probes;
+use super::series;
+use super::summary::{self, Outcome, PpeSummary, PpeWindow, Summary};
+use super::{RunOptions, CASE_FILE};
+use crate::analysis::reference::Reference;
+use crate::app::io::{self, SeriesRow};
+use crate::app::vtk;
+use crate::engine::step::Simulation;
+use crate::engine::timing::Stage;
+use crate::setup::case::Case;
+use anyhow::{Context, Result};
+use indicatif::ProgressBar;
+use std::time::{Duration, Instant};
+
+/// Series rows are flushed to disk at most this often (and at the end).
+const FLUSH_INTERVAL: Duration = Duration::from_secs(2);
+
+/// A run in progress.
+pub struct Run<'a> {
+    case: &'a Case,
+    options: &'a RunOptions,
+    pub sim: Simulation,
+    reference: Result<Reference, String>,
+    rows: Vec<SeriesRow>,
+    cadence: Cadence,
+    /// PPE statistics since the last row, and over the run.
+    window: PpeWindow,
+    totals: PpeWindow,
+    last_dt: f64,
+    probes: Probes,
+    snapshots: Option<vtk::Series>,
+    breakdown: Option<String>,
+    progress: ProgressBar,
+    start: Instant,
+    last_flush: Instant,
+}
+
+/// A run continued from its checkpoint.
+pub struct Resumed {
+    pub sim: Simulation,
+    pub state: LoopState,
+    pub rows: Vec<SeriesRow>,
+}
+
+impl<'a> Run<'a> {
+    /// Prepares the run directory and the run's state (fresh, or from a checkpoint).
+    pub fn new(case: &'a Case, options: &'a RunOptions, resumed: Option<Resumed>) -> Result<Self> {
+        let dir = &options.out_dir;
+        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+        let reference = case.scene.reference(&case.fluid);
+        if let (Err(why), false) = (&reference, options.quiet) {
+            eprintln!("  no analytic reference: {why}");
+        }
+        // A previous run's summary must not survive to describe this one.
+        let _ = std::fs::remove_file(dir.join("summary.json"));
+        let snapshots = if options.snapshots {
+            Some(vtk::Series::new(dir)?)
+        } else {
+            None
+        };
+        let mut run = Self {
+            case,
+            options,
+            sim: Simulation::new(case.setup()),
+            reference,
+            rows: Vec::new(),
+            cadence: Cadence::new(case),
+            window: PpeWindow::default(),
+            totals: PpeWindow::default(),
+            last_dt: 0.0,
+            probes: Probes::for_case(case),
+            snapshots,
+            breakdown: None,
+            progress: summary::progress_bar(options.quiet, case.end_time),
+            start: Instant::now(),
+            last_flush: Instant::now(),
+        };
+        match resumed {
+            Some(r) => run.resume(r)?,
+            None => run.begin()?,
+        }
+        Ok(run)
+    }
+
+    /// A fresh run: the case as run, the first row and snapshot at t = 0.
+    fn begin(&mut self) -> Result<()> {
+        let dir = &self.options.out_dir;
+        let _ = std::fs::remove_file(dir.join(CHECKPOINT_FILE));
+        io::write_atomic(
+            &dir.join(CASE_FILE),
+            toml::to_string(&self.case.source)?.as_bytes(),
+        )?;
+        self.record();
+        self.cadence.first_output();
+        self.snapshot(true)
+    }
+
+    /// A resumed run: the loop's state and the probes' rows from the checkpoint.
+    fn resume(&mut self, r: Resumed) -> Result<()> {
+        self.sim = r.sim;
+        self.rows = r.rows;
+        let st = r.state;
+        self.cadence = st.cadence;
+        self.window = st.window;
+        self.totals = st.totals;
+        self.last_dt = st.last_dt;
+        if let Some(series) = self.snapshots.as_mut() {
+            series.restore_entries(st.snapshots);
+        }
+        self.probes
+            .restore(&self.options.out_dir, self.sim.state.time, &st.probes)
+    }
+
+    /// Steps to the end time or a breakdown, writing at the cadence's times.
+    pub fn time_loop(&mut self) -> Result<()> {
+        while self.cadence.running(self.sim.state.time) {
+            let dt_max = step_limit(
+                &self.sim,
+                self.cadence.end_time - self.sim.state.time,
+                self.last_dt,
+            );
+            match self.sim.step(dt_max) {
+                Ok(report) => {
+                    self.last_dt = report.dt;
+                    self.window.add(&report.ppe);
+                    self.totals.add(&report.ppe);
+                }
+                Err(b) => {
+                    self.breakdown = Some(b.reason);
+                    break;
+                }
+            }
+            let t = self.sim.state.time;
+            if self.cadence.output_due(t) {
+                self.record();
+                if let Some(end) = self.probes.end_time(&mut self.sim, &self.rows) {
+                    self.cadence.end_by(end);
+                }
+                self.snapshot(false)?;
+                self.checkpoint_if_due()?;
+                self.progress
+                    .set_position((1000.0 * t / self.case.end_time) as u64);
+                self.progress.set_message(format!("t = {t:.3}"));
+                if self.last_flush.elapsed() >= FLUSH_INTERVAL {
+                    self.flush()?;
+                }
+            }
+        }
+        if self.breakdown.is_some() && self.window.steps > 0 {
+            self.record();
+        }
+        Ok(())
+    }
+
+    /// Appends the series row of the current state, with the probes' records.
+    fn record(&mut self) {
+        let t0 = Instant::now();
+        let mut row = series::row(
+            &self.sim,
+            self.case.scene.as_ref(),
+            self.reference.as_mut().ok(),
+            &self.window,
+            self.last_dt,
+        );
+        self.window = PpeWindow::default();
+        self.sim
+            .timers
+            .add(Stage::Diagnostics, t0.elapsed().as_secs_f64());
+        self.probes.fill_row(&mut self.sim, &mut row);
+        self.rows.push(row);
+        self.probes.record(&mut self.sim, &self.rows);
+    }
+
+    /// Writes a `.vtu` snapshot (and, for free surfaces with charts, a tr A PNG) when one is
+    /// due, or `force`d and not yet written at this time.
+    fn snapshot(&mut self, force: bool) -> Result<()> {
+        let Some(series) = self.snapshots.as_mut() else {
+            return Ok(());
+        };
+        let t = self.sim.state.time;
+        if series.last_time() == Some(t) || !self.cadence.snapshot_due(t, force) {
+            return Ok(());
+        }
+        let t0 = Instant::now();
+        series.write(&self.sim)?;
+        if self.options.charts && self.case.scene.has_free_surface() {
+            // Drops in t* = tU/W, jets in seconds.
+            let (title, name) = match self.case.scene.drop_shape() {
+                Some(d) => {
+                    let ts = t * d.speed / d.diameter;
+                    (
+                        format!("tr A, t* = {ts:.2}"),
+                        format!("trace_a_{ts:07.3}.png"),
+                    )
+                }
+                None => (
+                    format!("tr A, t = {t:.3} s"),
+                    format!("trace_a_t{t:.4}.png"),
+                ),
+            };
+            let dir = self.options.out_dir.join("snapshots");
+            charts::free_surface_snapshot(&dir, &self.sim, &title, &name)?;
+        }
+        self.sim
+            .timers
+            .add(Stage::Output, t0.elapsed().as_secs_f64());
+        Ok(())
+    }
+
+    /// A checkpoint when one is due (a jet's growing particle count is not checkpointed).
+    fn checkpoint_if_due(&mut self) -> Result<()> {
+        if self.sim.inflow.is_some() || !self.cadence.checkpoint_due(self.sim.state.time) {
+            return Ok(());
+        }
+        let t0 = Instant::now();
+        self.write_series()?;
+        let state = LoopState {
+            case_name: self.case.name.clone(),
+            cadence: self.cadence.clone(),
+            window: self.window.clone(),
+            totals: self.totals.clone(),
+            last_dt: self.last_dt,
+            snapshots: self
+                .snapshots
+                .as_ref()
+                .map(|s| s.entries().to_vec())
+                .unwrap_or_default(),
+            probes: self.probes.checkpoint(),
+        };
+        checkpoint::save(&self.options.out_dir, &state, &self.sim)?;
+        self.sim
+            .timers
+            .add(Stage::Output, t0.elapsed().as_secs_f64());
+        Ok(())
+    }
+
+    fn flush(&mut self) -> Result<()> {
+        let t0 = Instant::now();
+        self.write_series()?;
+        self.sim
+            .timers
+            .add(Stage::Output, t0.elapsed().as_secs_f64());
+        self.last_flush = Instant::now();
+        Ok(())
+    }
+
+    /// `series.csv` and the probes' files, atomically.
+    fn write_series(&self) -> Result<()> {
+        let dir = &self.options.out_dir;
+        io::write_atomic(
+            &dir.join("series.csv"),
+            io::series_csv(&self.rows).as_bytes(),
+        )?;
+        self.probes.write(dir)
+    }
+
+    /// The final files, charts and `summary.json`.
+    pub fn finish(mut self) -> Result<Summary> {
+        let dir = self.options.out_dir.clone();
+        let charts = self.options.charts;
+        self.snapshot(true)?;
+        self.progress.finish_and_clear();
+        let t0 = Instant::now();
+        self.write_series()?;
+        let probes = self
+            .probes
+            .finish(&mut self.sim, &self.rows, &dir, charts)?;
+        let reference = self.reference.as_mut().map_err(|e| e.as_str());
+        let (errors, stresses) =
+            errors::final_errors(&self.sim, reference, &self.rows, self.last_dt);
+        let profile =
+            errors::profile_csv(&self.sim, self.reference.as_mut().ok(), stresses.as_ref());
+        io::write_atomic(&dir.join("profile.csv"), profile.as_bytes())?;
+        let scene = self.case.scene.as_ref();
+        if charts && scene.cylinder().is_none() && !scene.has_free_surface() {
+            charts::draw(
+                &dir,
+                scene,
+                &self.sim,
+                self.reference.as_ref().ok(),
+                &self.rows,
+                stresses.as_ref(),
+            )?;
+        }
+        self.sim
+            .timers
+            .add(Stage::Output, t0.elapsed().as_secs_f64());
+        let summary = self.summary(errors, probes);
+        io::write_json(&dir.join("summary.json"), &summary)?;
+        if !self.options.quiet {
+            summary::report_end(&summary, &dir);
+        }
+        Ok(summary)
+    }
+
+    fn summary(
+        &self,
+        errors: errors::Errors,
+        probes: std::collections::BTreeMap<&'static str, serde_json::Value>,
+    ) -> Summary {
+        let sim = &self.sim;
+        let wall_seconds = self.start.elapsed().as_secs_f64();
+        let (steps, particles) = (sim.state.steps, sim.particles());
+        let totals = &self.totals;
+        Summary {
+            outcome: if self.breakdown.is_some() {
+                Outcome::BrokeDown
+            } else {
+                Outcome::Finished
+            },
+            reason: self.breakdown.clone(),
+            t_reached: sim.state.time,
+            end_time: self.cadence.end_time,
+            particles,
+            steps,
+            wall_seconds,
+            particle_steps_per_second: particles as f64 * steps as f64 / wall_seconds.max(1e-9),
+            stage_seconds: sim.timers,
+            threads: rayon::current_num_threads(),
+            derived: self.case.derived(),
+            errors,
+            ppe: PpeSummary {
+                mean_iterations: totals.mean_iterations(),
+                max_iterations: totals.max_iterations,
+                lu_fallbacks: totals.fallbacks,
+                bicgstab_solves: totals.steps - totals.lu_solves,
+                lu_solves: totals.lu_solves,
+                lu_factorisations: sim.ppe_factorisations(),
+                max_relative_residual: totals.max_residual,
+                absolute_floor_stops: totals.floor_stops,
+                matrix_nonzeros: sim.ppe_nonzeros(),
+            },
+            neighbour_pairs_per_particle: sim.neighbour_pairs() as f64 / particles as f64,
+            probes,
+            version: env!("CARGO_PKG_VERSION"),
+            case: self.case.source.clone(),
+        }
+    }
+}
+
+/// The largest step towards the end time: the remaining time, except that a remainder
+/// between one and two stable steps is halved, so the last step is never a sliver. (The
+/// projection pressure carries an O(1/δt) part from the divergence left by the previous
+/// step; a tiny last step would make the final pressure, and the drag, spike.)
+fn step_limit(sim: &Simulation, remaining: f64, last_dt: f64) -> f64 {
+    if last_dt > 0.0 && remaining < 3.0 * last_dt {
+        let stable = sim.stable_dt();
+        if remaining > stable && remaining < 2.0 * stable {
+            return 0.5 * remaining;
+        }
+    }
+    remaining
+}

@@ -1,0 +1,61 @@
+//! One row of `series.csv`: the state at an output time against the analytic reference.
+
+use super::summary::PpeWindow;
+use crate::analysis::diagnostics;
+use crate::analysis::reference::Reference;
+use crate::app::io::SeriesRow;
+use crate::engine::step::Simulation;
+use crate::setup::scenes::Scene;
+
+/// The series row of the current state (the probes' columns NaN until they fill them);
+/// `window` holds the PPE statistics since the last row, `dt` the last step.
+pub fn row(
+    sim: &Simulation,
+    scene: &dyn Scene,
+    reference: Option<&mut Reference>,
+    window: &PpeWindow,
+    dt: f64,
+) -> SeriesRow {
+    let s = &sim.state;
+    let stats = diagnostics::field_stats(
+        &s.velocity,
+        &s.conformation,
+        sim.fluid.density,
+        sim.particle_volume(),
+    );
+    let (u_centre_exact, l2_error) = match reference {
+        Some(r) => (
+            r.characteristic_velocity(s.time),
+            r.l2_error(&s.position, &s.velocity, s.time),
+        ),
+        None => (f64::NAN, f64::NAN),
+    };
+    SeriesRow {
+        t: s.time,
+        dt,
+        step: s.steps,
+        u_centre: scene.characteristic_velocity(&s.position, &s.velocity),
+        u_centre_exact,
+        l2_error,
+        ppe_iterations: window.mean_iterations(),
+        ppe_residual: window.max_residual,
+        ppe_fallbacks: window.fallbacks as u32,
+        kinetic_energy: stats.kinetic_energy,
+        max_speed: stats.max_speed,
+        max_trace_a: stats.max_trace,
+        min_det_a: stats.min_det,
+        u_mean: bulk_velocity(sim),
+        drag_k: f64::NAN,
+        k_pressure: f64::NAN,
+        k_solvent: f64::NAN,
+        k_polymer: f64::NAN,
+    }
+}
+
+/// The bulk velocity ⟨u⟩ = Q/H = Σ u_x V/(L H) (see [`SeriesRow::u_mean`]).
+fn bulk_velocity(sim: &Simulation) -> f64 {
+    let s = &sim.state;
+    let sum = diagnostics::blocked_sum(s.velocity.len(), |i| s.velocity[i].x);
+    let extent = sim.domain.max - sim.domain.min;
+    sum * sim.particle_volume() / (extent.x * extent.y)
+}

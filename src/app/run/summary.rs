@@ -1,0 +1,174 @@
+//! `summary.json`: how a run ended, what it cost (per stage), its errors against the analytic
+//! reference, PPE statistics and what the probes report; and the lines a run prints at its
+//! start and end.
+
+use super::errors::Errors;
+use crate::engine::timing::StageSeconds;
+use crate::setup::case::{Case, Derived};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// How a run ended.
+#[derive(Clone, Copy, Debug, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum Outcome {
+    Finished,
+    BrokeDown,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct PpeSummary {
+    pub mean_iterations: f64,
+    pub max_iterations: usize,
+    pub lu_fallbacks: u64,
+    /// Solves by each method, and LU factorisations (a fixed-particle run factorises once).
+    pub bicgstab_solves: u64,
+    pub lu_solves: u64,
+    pub lu_factorisations: usize,
+    /// Largest relative residual ‖b − Ap‖/‖b‖ of any solve.
+    pub max_relative_residual: f64,
+    /// Solves that stopped on the divergence tolerance (`scheme.ppe_divergence_tolerance`) before
+    /// reaching the relative tolerance; for these ‖b‖ is near round-off and the relative
+    /// residual can be O(1) by design.
+    pub absolute_floor_stops: u64,
+    pub matrix_nonzeros: usize,
+}
+
+/// `summary.json`.
+#[derive(Clone, Debug, Serialize)]
+pub struct Summary {
+    pub outcome: Outcome,
+    pub reason: Option<String>,
+    pub t_reached: f64,
+    pub end_time: f64,
+    pub particles: usize,
+    pub steps: u64,
+    pub wall_seconds: f64,
+    pub particle_steps_per_second: f64,
+    pub stage_seconds: StageSeconds,
+    pub threads: usize,
+    pub derived: Derived,
+    pub errors: Errors,
+    pub ppe: PpeSummary,
+    pub neighbour_pairs_per_particle: f64,
+    /// What the probes report, by name: `steady` (channels with a cylinder: steady state,
+    /// time averages, drag and centre-line values), `drop` (the largest width, the final
+    /// shape, the area drift), `jet` (impact, buckling onset, folding frequency).
+    #[serde(flatten)]
+    pub probes: BTreeMap<&'static str, serde_json::Value>,
+    pub version: &'static str,
+    pub case: crate::setup::case::CaseFile,
+}
+
+impl Summary {
+    /// The steady-state entry of a run with a cylinder.
+    pub fn steady(&self) -> Option<super::probes::steady::SteadySummary> {
+        self.probes
+            .get("steady")
+            .and_then(|v| serde_json::from_value(v.clone()).ok())
+    }
+}
+
+/// PPE statistics over a window of steps.
+#[derive(Clone, Debug, Default, Serialize, serde::Deserialize)]
+pub struct PpeWindow {
+    pub steps: u64,
+    pub iterations: u64,
+    pub max_iterations: usize,
+    pub max_residual: f64,
+    pub fallbacks: u64,
+    pub floor_stops: u64,
+    pub lu_solves: u64,
+}
+
+impl PpeWindow {
+    pub fn add(&mut self, r: &rheosph_solver::SolveReport) {
+        self.steps += 1;
+        self.iterations += r.iterations as u64;
+        self.max_iterations = self.max_iterations.max(r.iterations);
+        self.max_residual = self.max_residual.max(r.relative_residual);
+        self.floor_stops += r.on_absolute_floor as u64;
+        self.lu_solves += (r.method == rheosph_solver::Method::SparseLu) as u64;
+        self.fallbacks += r.fell_back as u64;
+    }
+
+    pub fn mean_iterations(&self) -> f64 {
+        if self.steps == 0 {
+            0.0
+        } else {
+            self.iterations as f64 / self.steps as f64
+        }
+    }
+}
+
+pub fn progress_bar(quiet: bool, end_time: f64) -> ProgressBar {
+    if quiet {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::with_draw_target(Some(1000), ProgressDrawTarget::stderr());
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{bar:40.cyan/blue} {percent:>3}% {msg} of {prefix} [{elapsed_precise}, ETA {eta}]",
+        )
+        .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    bar.set_prefix(format!("{end_time}"));
+    bar
+}
+
+pub fn report_start(case: &Case, d: &Derived) {
+    let f = &case.fluid;
+    eprintln!(
+        "rheosph {}: case `{}`",
+        env!("CARGO_PKG_VERSION"),
+        case.name
+    );
+    eprintln!(
+        "  scene {}, model {}  Re = {:.4}  Wi = {:.4}  El = {:.4}  beta = {}  alpha_V = {}",
+        case.scene.kind(),
+        f.model.name(),
+        d.reynolds,
+        d.weissenberg,
+        d.elasticity,
+        d.beta,
+        case.scheme.evss_alpha
+    );
+    eprintln!(
+        "  {} particles (~{:.0} MB), dr = {:.4e}, h = {:.4e}; U = {:.4e}; dt limits: viscous {:.3e}, advective {:.3e}, elastic {:.3e}; ~{:.0} steps",
+        d.particles, d.estimated_memory_bytes / 1e6, d.particle_spacing, d.smoothing_length, d.velocity_scale, d.dt_viscous, d.dt_advective_at_u, d.dt_elastic, d.estimated_steps
+    );
+    eprintln!(
+        "  frame {:?}, conformation {:?}, shifting {}, {} threads",
+        case.scheme.frame,
+        case.scheme.conformation,
+        case.scheme.shifting,
+        rayon::current_num_threads()
+    );
+}
+
+pub fn report_end(s: &Summary, dir: &Path) {
+    match s.outcome {
+        Outcome::Finished => {
+            eprintln!("finished at t = {:.4} after {} steps", s.t_reached, s.steps)
+        }
+        Outcome::BrokeDown => eprintln!(
+            "broke down at t = {:.4} after {} steps: {}",
+            s.t_reached,
+            s.steps,
+            s.reason.as_deref().unwrap_or("?")
+        ),
+    }
+    if let (Some(mean), Some(last)) = (s.errors.l2_time_mean, s.errors.l2_final) {
+        eprintln!(
+            "  velocity L2 error against {}: time mean {mean:.3e}, final {last:.3e}",
+            s.errors.reference.unwrap_or("?")
+        );
+    }
+    eprintln!(
+        "  {:.0} particle-steps/s ({:.1} s wall, PPE {:.1} iterations/step)",
+        s.particle_steps_per_second, s.wall_seconds, s.ppe.mean_iterations
+    );
+    eprintln!("  output in {}", dir.display());
+}

@@ -1,0 +1,62 @@
+//! Step 4, the predictor of eq. (24):
+//!
+//! ```text
+//!     u* = u^n + δt [u_ps·∇u^n + ν∇²u^n + ∇·Φ/ρ + g − ∇p^n/ρ],
+//! ```
+//!
+//! each term supplied by the stage that owns it: the ALE advection by the shift velocity
+//! (step 2), the explicit viscous term (absent when viscosity is implicit, see
+//! [`crate::engine::viscosity`]), the EVSS stress divergence (viscoelastic fluids, step 3),
+//! the body force, and the old pressure gradient (incremental projection only, see
+//! [`crate::engine::projection`]).
+
+use crate::engine::math::{Mat2, Vec2};
+use rayon::prelude::*;
+
+/// The terms of (24) besides u^n.
+pub struct PredictorTerms<'a> {
+    /// ∇u^n.
+    pub grad_u: &'a [Mat2],
+    /// The shift velocity u_ps.
+    pub u_ps: &'a [Vec2],
+    /// ∇²u^n and ν (explicit viscosity).
+    pub viscous: Option<(&'a [Vec2], f64)>,
+    /// ∇·Φ (viscoelastic fluids).
+    pub stress: Option<&'a [Vec2]>,
+    pub body_force: Vec2,
+    /// ∇p^n (incremental projection).
+    pub old_pressure_gradient: Option<&'a [Vec2]>,
+    /// 1/ρ.
+    pub inv_rho: f64,
+}
+
+/// u* from u^n (`velocity`) over `dt`, into `out`.
+pub fn predict(terms: &PredictorTerms, velocity: &[Vec2], dt: f64, out: &mut Vec<Vec2>) {
+    let PredictorTerms {
+        grad_u,
+        u_ps,
+        viscous,
+        stress,
+        body_force,
+        old_pressure_gradient,
+        inv_rho,
+    } = *terms;
+    out.resize(velocity.len(), Vec2::zeros());
+    out.par_iter_mut()
+        .zip(velocity.par_iter())
+        .enumerate()
+        .for_each(|(i, (us, u))| {
+            let mut a = grad_u[i] * u_ps[i];
+            if let Some((laplacian, nu)) = viscous {
+                a += nu * laplacian[i];
+            }
+            if let Some(div_phi) = stress {
+                a += div_phi[i] * inv_rho;
+            }
+            a += body_force;
+            if let Some(grad_p) = old_pressure_gradient {
+                a -= inv_rho * grad_p[i];
+            }
+            *us = u + dt * a;
+        });
+}

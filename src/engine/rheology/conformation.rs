@@ -1,0 +1,150 @@
+//! Step 3 of the time step (King & Lind §III A–B): the conformation from n−½ to n+½, by the
+//! log-conformation ([`super::log_conformation`]) or directly ([`super::direct`]); then the
+//! EVSS tensor Φ = τ_p − α_V η0 2D of eq. (6) and its divergence for the predictor, in the
+//! form of (20) the scene needs (negative in closed domains, positive with free surfaces).
+
+use super::{direct_step, log_conformation_step, Fluid};
+use crate::engine::boundary::Ghosts;
+use crate::engine::math::{Mat2, Sym2, Vec2};
+use crate::engine::neighbours::NeighbourList;
+use crate::engine::operators::{DivergenceForm, KernelSums};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+/// How the conformation tensor is integrated in time.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ConformationScheme {
+    /// Log-conformation with source splitting, §III B.
+    Log,
+    /// First-order Euler on A itself, eq. (10): not positive-definite by construction.
+    Direct,
+}
+
+/// The constitutive stage of a viscoelastic fluid and its buffers.
+#[derive(Clone, Debug)]
+pub struct ConformationStage {
+    pub scheme: ConformationScheme,
+    /// α_V η0 of eq. (6).
+    evss: f64,
+    form: DivergenceForm,
+    log_conformation: Vec<Sym2>,
+    advection: Vec<Sym2>,
+    tensor_ext: Vec<Sym2>,
+    phi: Vec<Sym2>,
+    div_phi: Vec<Vec2>,
+}
+
+impl ConformationStage {
+    /// The stage for `fluid` with EVSS weight α_V; `form` of the divergence (20).
+    pub fn new(
+        scheme: ConformationScheme,
+        fluid: &Fluid,
+        evss_alpha: f64,
+        form: DivergenceForm,
+    ) -> Self {
+        Self {
+            scheme,
+            evss: evss_alpha * fluid.viscosity,
+            form,
+            log_conformation: Vec::new(),
+            advection: Vec::new(),
+            tensor_ext: Vec::new(),
+            phi: Vec::new(),
+            div_phi: Vec::new(),
+        }
+    }
+
+    /// Heap bytes held.
+    pub fn heap_bytes(&self) -> usize {
+        use crate::engine::vec_bytes as b;
+        b(&self.log_conformation)
+            + b(&self.advection)
+            + b(&self.tensor_ext)
+            + b(&self.phi)
+            + b(&self.div_phi)
+    }
+
+    /// Advances `conformation` from A^{n−½} to A^{n+½} with ∇u^n and the shift velocity,
+    /// then Φ and ∇·Φ.
+    pub fn update(
+        &mut self,
+        fluid: &Fluid,
+        dt: f64,
+        hood: (&NeighbourList, &KernelSums, &Ghosts),
+        (grad_u, u_ps): (&[Mat2], &[Vec2]),
+        conformation: &mut [Sym2],
+    ) {
+        let (list, sums, ghosts) = hood;
+        let n = conformation.len();
+        let lambda = fluid.relaxation_time;
+        let model = fluid.model;
+        self.advection.resize(n, Sym2::ZERO);
+        match self.scheme {
+            ConformationScheme::Log => {
+                self.log_conformation.resize(n, Sym2::ZERO);
+                self.log_conformation
+                    .par_iter_mut()
+                    .zip(conformation.par_iter())
+                    .for_each(|(psi, a)| *psi = a.log());
+                ghosts.extend_tensor(&self.log_conformation, &mut self.tensor_ext);
+                sums.advective_tensor(list, &self.tensor_ext, u_ps, &mut self.advection);
+                let (psi, adv) = (&self.log_conformation, &self.advection);
+                conformation.par_iter_mut().enumerate().for_each(|(i, a)| {
+                    *a = log_conformation_step(&model, a, &psi[i], &adv[i], &grad_u[i], dt, lambda);
+                });
+            }
+            ConformationScheme::Direct => {
+                ghosts.extend_tensor(conformation, &mut self.tensor_ext);
+                sums.advective_tensor(list, &self.tensor_ext, u_ps, &mut self.advection);
+                let adv = &self.advection;
+                conformation.par_iter_mut().enumerate().for_each(|(i, a)| {
+                    *a = direct_step(&model, a, &adv[i], &grad_u[i], dt, lambda);
+                });
+            }
+        }
+        self.evss_divergence(fluid, hood, grad_u, conformation);
+    }
+
+    /// Φ = τ_p − α_V η0 2D, eq. (6), with D from ∇u^n, and ∇·Φ.
+    fn evss_divergence(
+        &mut self,
+        fluid: &Fluid,
+        (list, sums, ghosts): (&NeighbourList, &KernelSums, &Ghosts),
+        grad_u: &[Mat2],
+        conformation: &[Sym2],
+    ) {
+        let n = conformation.len();
+        let evss = self.evss;
+        self.phi.resize(n, Sym2::ZERO);
+        self.phi
+            .par_iter_mut()
+            .zip(conformation.par_iter())
+            .enumerate()
+            .for_each(|(i, (phi, a))| {
+                let strain_rate = Sym2::sym_part(&grad_u[i]) * 2.0;
+                *phi = fluid.polymer_stress(a) - strain_rate * evss;
+            });
+        ghosts.extend_tensor(&self.phi, &mut self.tensor_ext);
+        self.div_phi.resize(n, Vec2::zeros());
+        sums.divergence_tensor(list, &self.tensor_ext, self.form, &mut self.div_phi);
+    }
+
+    /// ∇·Φ of the last update, for the predictor.
+    pub fn stress_divergence(&self) -> &[Vec2] {
+        &self.div_phi
+    }
+
+    /// The invariant the integration does not keep by construction: positive definiteness
+    /// under direct integration (the log-conformation keeps it exactly).
+    pub fn check(&self, conformation: &[Sym2]) -> Result<(), String> {
+        if self.scheme == ConformationScheme::Direct
+            && conformation
+                .par_iter()
+                .any(|a| a.det() <= 0.0 || a.trace() <= 0.0)
+        {
+            return Err("conformation tensor lost positive definiteness".into());
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,38 @@
+//! FENE-CR (King & Lind Table I): the Peterlin factor on A − I.
+
+use super::{deviation, Constitutive, Model, ModelEntry};
+use crate::engine::math::Sym2;
+
+/// FENE-CR with extensibility L²: constant shear viscosity, extension-limited normal stress.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FeneCr {
+    pub l2: f64,
+}
+
+impl FeneCr {
+    fn peterlin(&self, a: &Sym2) -> f64 {
+        1.0 / (1.0 - a.trace() / self.l2)
+    }
+}
+
+impl Constitutive for FeneCr {
+    fn strain(&self, a: &Sym2) -> Sym2 {
+        deviation(a) * self.peterlin(a)
+    }
+    fn relaxation(&self, a: &Sym2) -> Sym2 {
+        self.strain(a)
+    }
+    fn relaxation_coefficients(&self, a: &Sym2) -> Option<(f64, f64)> {
+        Some((self.peterlin(a), 1.0))
+    }
+    fn conformation_from_strain(&self, strain: &Sym2, trace: f64) -> Sym2 {
+        *strain * (1.0 - trace / self.l2) + Sym2::IDENTITY
+    }
+}
+
+pub const ENTRY: ModelEntry = ModelEntry {
+    name: "fene-cr",
+    parameters: &[super::fene_p::EXTENSIBILITY],
+    solvent: super::Solvent::Ratio,
+    build: |p| Model::FeneCr(FeneCr { l2: p[0] }),
+};

@@ -1,0 +1,57 @@
+//! FENE-P (King & Lind Table I): the Peterlin factor 1/(1 − tr A/L²) on A in f_S and f_R.
+
+use super::{Constitutive, Model, ModelEntry, Parameter};
+use crate::engine::math::Sym2;
+
+/// FENE-P with extensibility L² (> 2, the trace at rest in 2D). The Peterlin factor
+/// 1/(1 − tr A/L²) multiplies A in both functions; the rest state is A = L²/(L² + 2) I.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FeneP {
+    pub l2: f64,
+}
+
+impl FeneP {
+    /// 1/(1 − tr A/L²); infinite when tr A reaches L² (the chains' full extension).
+    fn peterlin(&self, a: &Sym2) -> f64 {
+        1.0 / (1.0 - a.trace() / self.l2)
+    }
+}
+
+impl Constitutive for FeneP {
+    fn strain(&self, a: &Sym2) -> Sym2 {
+        *a * self.peterlin(a) - Sym2::IDENTITY
+    }
+    fn relaxation(&self, a: &Sym2) -> Sym2 {
+        self.strain(a)
+    }
+    fn relaxation_coefficients(&self, a: &Sym2) -> Option<(f64, f64)> {
+        Some((1.0, self.peterlin(a)))
+    }
+    fn rest_conformation(&self) -> Sym2 {
+        Sym2::IDENTITY * (self.l2 / (self.l2 + 2.0))
+    }
+    fn conformation_from_strain(&self, strain: &Sym2, trace: f64) -> Sym2 {
+        (*strain + Sym2::IDENTITY) * (1.0 - trace / self.l2)
+    }
+}
+
+/// L² > 2, the trace at rest in 2D.
+pub const EXTENSIBILITY: Parameter = Parameter {
+    key: "l2",
+    check: |l2| {
+        if l2.is_finite() && l2 > 2.0 {
+            Ok(l2)
+        } else {
+            Err(format!(
+                "must exceed 2 (tr A of the fluid at rest in 2D), got {l2}"
+            ))
+        }
+    },
+};
+
+pub const ENTRY: ModelEntry = ModelEntry {
+    name: "fene-p",
+    parameters: &[EXTENSIBILITY],
+    solvent: super::Solvent::Ratio,
+    build: |p| Model::FeneP(FeneP { l2: p[0] }),
+};

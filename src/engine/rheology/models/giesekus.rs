@@ -1,0 +1,43 @@
+//! Giesekus (King & Lind Table I): f_R = αA² + (1 − 2α)A − (1 − α)I.
+
+use super::{deviation, Constitutive, Model, ModelEntry, Parameter};
+use crate::engine::math::Sym2;
+
+/// Giesekus with mobility α ∈ [0, ½]. f_R is quadratic in A, so the source step is explicit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Giesekus {
+    pub alpha: f64,
+}
+
+impl Constitutive for Giesekus {
+    fn strain(&self, a: &Sym2) -> Sym2 {
+        deviation(a)
+    }
+    fn relaxation(&self, a: &Sym2) -> Sym2 {
+        let m = a.to_mat();
+        let a2 = Sym2::sym_part(&(m * m));
+        a2 * self.alpha + *a * (1.0 - 2.0 * self.alpha) - Sym2::IDENTITY * (1.0 - self.alpha)
+    }
+    fn relaxation_coefficients(&self, _a: &Sym2) -> Option<(f64, f64)> {
+        None
+    }
+}
+
+/// Mobility α ∈ [0, ½].
+pub const MOBILITY: Parameter = Parameter {
+    key: "alpha",
+    check: |a| {
+        if a.is_finite() && (0.0..=0.5).contains(&a) {
+            Ok(a)
+        } else {
+            Err(format!("must be in [0, 0.5], got {a}"))
+        }
+    },
+};
+
+pub const ENTRY: ModelEntry = ModelEntry {
+    name: "giesekus",
+    parameters: &[MOBILITY],
+    solvent: super::Solvent::Ratio,
+    build: |p| Model::Giesekus(Giesekus { alpha: p[0] }),
+};

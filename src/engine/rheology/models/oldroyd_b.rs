@@ -1,0 +1,36 @@
+//! Oldroyd-B (and UCM, its β = 0 limit): f_S = f_R = A − I (King & Lind Table I).
+
+use super::{deviation, Constitutive, Model, ModelEntry};
+use crate::engine::math::Sym2;
+
+/// Oldroyd-B.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OldroydB;
+
+impl Constitutive for OldroydB {
+    fn strain(&self, a: &Sym2) -> Sym2 {
+        deviation(a)
+    }
+    fn relaxation(&self, a: &Sym2) -> Sym2 {
+        deviation(a)
+    }
+    fn relaxation_coefficients(&self, _a: &Sym2) -> Option<(f64, f64)> {
+        Some((1.0, 1.0))
+    }
+}
+
+/// `oldroyd-b`: needs β ∈ [0, 1].
+pub const ENTRY: ModelEntry = ModelEntry {
+    name: "oldroyd-b",
+    parameters: &[],
+    solvent: super::Solvent::Ratio,
+    build: |_| Model::OldroydB,
+};
+
+/// `ucm`: Oldroyd-B without solvent (β = 0).
+pub const UCM: ModelEntry = ModelEntry {
+    name: "ucm",
+    parameters: &[],
+    solvent: super::Solvent::None,
+    build: |_| Model::Ucm,
+};

@@ -1,0 +1,73 @@
+//! The numerical scheme: every variant of the method, chosen once at set-up. The time step
+//! builds one stage object per choice ([`crate::engine::step::Simulation::new`]); nothing
+//! re-tests these inside the time loop.
+
+use crate::engine::boundary::TensorMirror;
+use crate::engine::frame::Frame;
+use crate::engine::free_surface::SurfacePressure;
+use crate::engine::projection::Projection;
+use crate::engine::rheology::ConformationScheme;
+use crate::engine::viscosity::Viscosity;
+use serde::{Deserialize, Serialize};
+
+/// Numerical scheme settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Scheme {
+    pub frame: Frame,
+    pub conformation: ConformationScheme,
+    /// Fickian shifting in the Lagrangian frame.
+    pub shifting: bool,
+    /// α_V of the EVSS splitting, eqs. (6)–(8).
+    pub evss_alpha: f64,
+    /// The factor 0.2 of the time-step rule (28).
+    pub dt_factor: f64,
+    pub viscosity: Viscosity,
+    pub projection: Projection,
+    pub ppe: PpeSettings,
+    /// Periodically sort particles along a Morton curve for memory locality.
+    pub reorder: bool,
+    /// How the conformation is carried onto wall mirrors.
+    pub wall_conformation: TensorMirror,
+    /// Free surfaces: the Dirichlet pressure rule.
+    pub free_surface_pressure: SurfacePressure,
+    /// Free surfaces: the repulsive term of (42)–(44) in the shifting of internal particles.
+    pub surface_repulsion: bool,
+}
+
+/// How the PPE (25) is solved.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PpeSettings {
+    /// Relative residual ‖b − Ap‖/‖b‖ at which BiCGStab stops.
+    pub tolerance: f64,
+    /// Or the r.m.s. divergence (in units of U/L) the residual corresponds to, whichever is
+    /// reached first.
+    pub divergence_tolerance: f64,
+    /// BiCGStab iteration budget before the sparse-LU fallback.
+    pub max_iterations: usize,
+    /// Start from the previous step's pressure (true) or from zero.
+    pub warm_start: bool,
+    pub solver: PpeSolver,
+}
+
+/// Which linear solver the PPE uses.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum PpeSolver {
+    /// Sparse LU, factorised once, for fixed particles (Eulerian); warm-started BiCGStab with
+    /// LU fallback when the matrix changes every step (Lagrangian).
+    Auto,
+    Bicgstab,
+    Lu,
+}
+
+impl PpeSolver {
+    /// The solver strategy in a frame.
+    pub fn strategy(self, frame: Frame) -> rheosph_solver::Strategy {
+        match (self, frame) {
+            (PpeSolver::Lu, _) | (PpeSolver::Auto, Frame::Eulerian) => {
+                rheosph_solver::Strategy::Direct
+            }
+            _ => rheosph_solver::Strategy::IterativeWithFallback,
+        }
+    }
+}

@@ -1,0 +1,69 @@
+//! Numbers derived from a case, computed in one place, printed at start-up and stored in
+//! every summary.
+
+use crate::engine::kernel::H_OVER_DR;
+use crate::engine::viscosity::{advective_limit, elastic_limit, viscous_limit};
+use crate::setup::case::Case;
+use serde::Serialize;
+
+/// Numbers derived from a case.
+#[derive(Clone, Debug, Serialize)]
+pub struct Derived {
+    pub particle_spacing: f64,
+    pub smoothing_length: f64,
+    pub particles: usize,
+    /// Velocity scale U: channel, the Oldroyd-B steady centre-line velocity ρgH²/(8η0);
+    /// channel with a cylinder, the nominal mean velocity `scene.velocity`; Taylor–Green,
+    /// the initial amplitude. Re = ρUL/η0, Wi = λU/L with L the height (R with a cylinder).
+    pub velocity_scale: f64,
+    pub reynolds: f64,
+    pub weissenberg: f64,
+    pub elasticity: f64,
+    pub beta: f64,
+    /// δt limits with the factor 0.2: viscous 0.2ρh²/η0 (explicit viscosity only, (28)),
+    /// advective 0.2h/U, elastic 0.2h/c with c = √(η_p/(ρλ)) the shear-wave speed.
+    pub dt_viscous: f64,
+    pub dt_advective_at_u: f64,
+    pub dt_elastic: f64,
+    /// end_time over the δt limit of the scheme at U.
+    pub estimated_steps: f64,
+    /// Particles × the measured heap per particle (`rheosph bench`).
+    pub estimated_memory_bytes: f64,
+}
+
+/// Heap bytes per particle measured by `rheosph bench` (3 285 at 64k particles, explicit
+/// viscosity), rounded up for the implicit solver's second matrix.
+pub const BYTES_PER_PARTICLE: f64 = 4000.0;
+/// Largest estimated heap a case may ask for.
+pub const MAX_MEMORY_BYTES: f64 = 16.0 * 1024.0 * 1024.0 * 1024.0;
+
+impl Case {
+    /// Derived numbers (see [`Derived`]).
+    pub fn derived(&self) -> Derived {
+        let c = &self.scene;
+        let dr = c.spacing();
+        let h = H_OVER_DR * dr;
+        let f = &self.fluid;
+        let u = c.velocity_scale(f);
+        let length = c.length_scale();
+        let re = f.density * u * length / f.viscosity;
+        let wi = f.relaxation_time * u / length;
+        let factor = self.scheme.dt_factor;
+        let limit = self.scheme.viscosity.dt_limit(f, h, u, u);
+        Derived {
+            particle_spacing: dr,
+            smoothing_length: h,
+            particles: c.particles(),
+            velocity_scale: u,
+            reynolds: re,
+            weissenberg: wi,
+            elasticity: if re > 0.0 { wi / re } else { 0.0 },
+            beta: f.beta,
+            dt_viscous: factor * viscous_limit(f, h),
+            dt_advective_at_u: factor * advective_limit(h, u),
+            dt_elastic: factor * elastic_limit(f, h),
+            estimated_steps: self.end_time / (factor * limit),
+            estimated_memory_bytes: c.particles() as f64 * BYTES_PER_PARTICLE,
+        }
+    }
+}

@@ -1,0 +1,271 @@
+//! The periodic channel (King & Lind §IV A–B): no-slip walls at y = 0 and y = H, periodic in
+//! x, driven by a body force along x; with a cylinder, the periodic cylinder array.
+
+use super::{check_box, check_memory, check_periodic_length, finite_force, support_in_dr, Scene};
+use crate::analysis::diagnostics::centre_line_velocity;
+use crate::analysis::reference::Reference;
+use crate::engine::boundary::{Circle, Surface, Wall};
+use crate::engine::lattice::lattice;
+use crate::engine::math::Vec2;
+use crate::engine::neighbours::Domain;
+use crate::engine::rheology::Fluid;
+use crate::engine::scheme::Scheme;
+use crate::engine::step::{Scales, Setup};
+use crate::setup::error::{field_err, positive, FieldError};
+use serde::{Deserialize, Serialize};
+
+/// `[scene]` of `kind = "channel"`.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ChannelSpec {
+    /// Periodic length along x.
+    pub length: f64,
+    /// Distance between the walls, H.
+    pub height: f64,
+    /// Particles across the height, H/δr.
+    pub resolution: usize,
+    /// Body force per unit mass g (along x).
+    pub body_force: Option<[f64; 2]>,
+    /// With a cylinder: the nominal mean velocity ⟨u⟩ defining Re and Wi.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub velocity: Option<f64>,
+    /// A solid cylinder in the channel (periodic array of cylinders).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cylinder: Option<CylinderSpec>,
+}
+
+/// `[scene.cylinder]`.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CylinderSpec {
+    pub radius: f64,
+    /// Centre (default: the centre of the box).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub centre: Option<[f64; 2]>,
+}
+
+/// A validated channel.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Channel {
+    pub length: f64,
+    pub height: f64,
+    pub resolution: usize,
+    columns: usize,
+    /// g = (g_x, 0).
+    pub body_force: Vec2,
+    /// The nominal mean velocity (with a cylinder; 0 without, where U follows from g).
+    pub velocity: f64,
+    pub cylinder: Option<Circle>,
+}
+
+impl ChannelSpec {
+    pub fn validate(&self) -> Result<Channel, FieldError> {
+        check_box(self.length, self.height, self.resolution)?;
+        let columns = check_periodic_length(self.length, self.height, self.resolution)?;
+        check_memory(columns as f64 * self.resolution as f64)?;
+        let g = self
+            .body_force
+            .ok_or_else(|| field_err("scene.body_force", "required for a channel"))?;
+        let body_force = finite_force(g)?;
+        if g[1] != 0.0 {
+            return Err(field_err(
+                "scene.body_force",
+                "a channel is driven along x: the y component must be 0",
+            ));
+        }
+        let velocity = match (&self.cylinder, self.velocity) {
+            (None, Some(_)) => {
+                return Err(field_err(
+                    "scene.velocity",
+                    "a plain channel's velocity scale follows from scene.body_force; scene.velocity is for taylor-green or a channel with a cylinder",
+                ));
+            }
+            (Some(_), None) => {
+                return Err(field_err(
+                    "scene.velocity",
+                    "required with a cylinder: the nominal mean velocity that defines Re and Wi",
+                ));
+            }
+            (Some(_), Some(u)) => positive("scene.velocity", u)?,
+            (None, None) => 0.0,
+        };
+        let cylinder = match &self.cylinder {
+            None => None,
+            Some(cy) => Some(cy.validate(self.length, self.height, self.resolution)?),
+        };
+        Ok(Channel {
+            length: self.length,
+            height: self.height,
+            resolution: self.resolution,
+            columns,
+            body_force,
+            velocity,
+            cylinder,
+        })
+    }
+}
+
+impl CylinderSpec {
+    fn validate(&self, length: f64, height: f64, resolution: usize) -> Result<Circle, FieldError> {
+        let radius = positive("scene.cylinder.radius", self.radius)?;
+        let centre = self.centre.unwrap_or([0.5 * length, 0.5 * height]);
+        let support = support_in_dr() * height / resolution as f64;
+        // Mirrors reach one kernel support into the cylinder and must stay on their side of
+        // its centre; the gaps to the walls must hold the support too.
+        if radius < 2.0 * support {
+            return Err(field_err(
+                "scene.cylinder.radius",
+                format!(
+                    "must be at least two kernel supports ({:.4}) at this resolution, got {radius}",
+                    2.0 * support
+                ),
+            ));
+        }
+        let gap = (centre[1] - radius).min(height - centre[1] - radius);
+        if !(centre[0].is_finite() && centre[1].is_finite())
+            || gap < support
+            || centre[0] < 0.0
+            || centre[0] > length
+        {
+            return Err(field_err(
+                "scene.cylinder.centre",
+                format!("the cylinder must lie inside the box with at least one kernel support ({support:.4}) to each wall"),
+            ));
+        }
+        if 2.0 * radius + 2.0 * support > length {
+            return Err(field_err(
+                "scene.cylinder.radius",
+                "the cylinder does not fit in the periodic length",
+            ));
+        }
+        Ok(Circle {
+            centre: Vec2::new(centre[0], centre[1]),
+            radius,
+        })
+    }
+}
+
+impl Channel {
+    /// Whether a lattice point holds a fluid particle: outside the cylinder by at least
+    /// 0.1δr (a closer particle's mirror would nearly coincide with it).
+    fn is_fluid(&self, p: &Vec2) -> bool {
+        match self.cylinder {
+            None => true,
+            Some(c) => {
+                (p.x - c.centre.x).hypot(p.y - c.centre.y) - c.radius >= 0.1 * self.spacing()
+            }
+        }
+    }
+
+    fn positions(&self) -> Vec<Vec2> {
+        lattice(self.columns, self.resolution, self.spacing())
+            .into_iter()
+            .filter(|p| self.is_fluid(p))
+            .collect()
+    }
+}
+
+impl Scene for Channel {
+    fn kind(&self) -> &'static str {
+        "channel"
+    }
+
+    fn length(&self) -> f64 {
+        self.length
+    }
+
+    fn height(&self) -> f64 {
+        self.height
+    }
+
+    fn resolution(&self) -> usize {
+        self.resolution
+    }
+
+    /// The cylinder radius R with a cylinder (Wi = ⟨u⟩λ/R), else the height.
+    fn length_scale(&self) -> f64 {
+        self.cylinder.map_or(self.height, |c| c.radius)
+    }
+
+    /// The nominal mean velocity with a cylinder; else the Oldroyd-B steady centre-line
+    /// velocity ρgH²/(8η0).
+    fn velocity_scale(&self, f: &Fluid) -> f64 {
+        match self.cylinder {
+            Some(_) => self.velocity,
+            None => {
+                f.density * self.body_force.x.abs() * self.height * self.height
+                    / (8.0 * f.viscosity)
+            }
+        }
+    }
+
+    fn body_force(&self) -> Vec2 {
+        self.body_force
+    }
+
+    fn particles(&self) -> usize {
+        match self.cylinder {
+            None => self.columns * self.resolution,
+            Some(_) => self.positions().len(),
+        }
+    }
+
+    fn build(&self, fluid: &Fluid, scheme: &Scheme, scales: Scales) -> Setup {
+        let positions = self.positions();
+        let mut walls = vec![
+            Surface::Plane(Wall::floor()),
+            Surface::Plane(Wall {
+                axis: 1,
+                position: self.height,
+                fluid_side: -1.0,
+            }),
+        ];
+        walls.extend(self.cylinder.map(Surface::Circle));
+        Setup {
+            domain: Domain {
+                min: Vec2::zeros(),
+                max: Vec2::new(self.length, self.height),
+                periodic: [true, false],
+            },
+            walls,
+            velocity: vec![Vec2::zeros(); positions.len()],
+            positions,
+            spacing: self.spacing(),
+            fluid: *fluid,
+            scheme: *scheme,
+            body_force: self.body_force,
+            scales,
+            free_surface: false,
+            inflow: None,
+        }
+    }
+
+    fn reference(&self, fluid: &Fluid) -> Result<Reference, String> {
+        if self.cylinder.is_some() {
+            return Err("no analytic solution for flow past a cylinder".into());
+        }
+        Reference::channel(
+            fluid,
+            self.body_force.x,
+            self.height,
+            self.velocity_scale(fluid),
+        )
+    }
+
+    /// The centre-line velocity: a quadratic fit through the particles near y = H/2.
+    fn characteristic_velocity(&self, positions: &[Vec2], velocity: &[Vec2]) -> f64 {
+        centre_line_velocity(positions, velocity, 0.5 * self.height, self.spacing())
+    }
+
+    fn characteristic_name(&self) -> (&'static str, &'static str) {
+        ("Centre-line velocity", "u(H/2)")
+    }
+
+    fn varies_across_height(&self) -> bool {
+        self.cylinder.is_none()
+    }
+
+    fn cylinder(&self) -> Option<Circle> {
+        self.cylinder
+    }
+}

@@ -1,0 +1,191 @@
+//! A drop falling onto a no-slip plate (King & Lind §IV C): a disc of concentric rings of
+//! particles at (0, −U) above the plate y = 0, in an open box x ∈ [−length/2, length/2],
+//! y ∈ [0, height] that particles must stay in (leaving it is a breakdown).
+
+use super::{check_box, check_memory, finite_force, support_in_dr, DropShape, Scene};
+use crate::analysis::reference::Reference;
+use crate::engine::boundary::{Surface, Wall};
+use crate::engine::lattice::disc;
+use crate::engine::math::Vec2;
+use crate::engine::neighbours::Domain;
+use crate::engine::reduce::blocked_sum;
+use crate::engine::rheology::Fluid;
+use crate::engine::scheme::Scheme;
+use crate::engine::step::{Scales, Setup};
+use crate::setup::error::{field_err, in_range, positive, FieldError};
+use serde::{Deserialize, Serialize};
+
+/// `[scene]` of `kind = "drop"`: `resolution` is W/δr, `velocity` the impact speed U,
+/// `body_force` gravity.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DropSpec {
+    pub length: f64,
+    pub height: f64,
+    /// Particles across the drop's diameter, W/δr.
+    pub resolution: usize,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub body_force: Option<[f64; 2]>,
+    /// The impact speed U.
+    pub velocity: Option<f64>,
+    pub drop: Option<DropTable>,
+}
+
+/// `[scene.drop]`.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DropTable {
+    /// W.
+    pub diameter: f64,
+    /// Height of the drop's centre above the plate (default W).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub centre_height: Option<f64>,
+}
+
+/// A validated drop scene.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Drop {
+    pub length: f64,
+    pub height: f64,
+    pub resolution: usize,
+    pub body_force: Vec2,
+    pub shape: DropShape,
+}
+
+impl DropSpec {
+    pub fn validate(&self) -> Result<Drop, FieldError> {
+        let (length, height, resolution) = (self.length, self.height, self.resolution);
+        check_box(length, height, resolution)?;
+        check_memory(0.25 * std::f64::consts::PI * (resolution as f64).powi(2))?;
+        let body_force = finite_force(self.body_force.unwrap_or([0.0, 0.0]))?;
+        let u = self.velocity.ok_or_else(|| {
+            field_err(
+                "scene.velocity",
+                "required for a drop (the impact speed U) or a jet (the inflow speed U0)",
+            )
+        })?;
+        let speed = in_range("scene.velocity", u, 0.0, f64::MAX)?;
+        let d = self.drop.as_ref().ok_or_else(|| {
+            field_err(
+                "scene.drop",
+                "required for a drop scene: [scene.drop] diameter = W",
+            )
+        })?;
+        let w = positive("scene.drop.diameter", d.diameter)?;
+        let centre_height = positive("scene.drop.centre_height", d.centre_height.unwrap_or(w))?;
+        let support = support_in_dr() * w / resolution as f64;
+        if centre_height - 0.5 * w < 0.5 * w / resolution as f64 {
+            return Err(field_err(
+                "scene.drop.centre_height",
+                format!("the drop (radius {}) must start above the plate, got centre height {centre_height}", 0.5 * w),
+            ));
+        }
+        if w + 2.0 * support > length || centre_height + 0.5 * w + support > height {
+            return Err(field_err(
+                "scene.length",
+                format!(
+                    "the box {length} × {height} must hold the drop and a kernel support around it"
+                ),
+            ));
+        }
+        Ok(Drop {
+            length,
+            height,
+            resolution,
+            body_force,
+            shape: DropShape {
+                centre: Vec2::new(0.0, centre_height),
+                diameter: w,
+                speed,
+            },
+        })
+    }
+}
+
+impl Scene for Drop {
+    fn kind(&self) -> &'static str {
+        "drop"
+    }
+
+    fn length(&self) -> f64 {
+        self.length
+    }
+
+    fn height(&self) -> f64 {
+        self.height
+    }
+
+    fn resolution(&self) -> usize {
+        self.resolution
+    }
+
+    /// δr = W/resolution.
+    fn spacing(&self) -> f64 {
+        self.shape.diameter / self.resolution as f64
+    }
+
+    /// The diameter W (Re = ρUW/η0, De = λU/W).
+    fn length_scale(&self) -> f64 {
+        self.shape.diameter
+    }
+
+    fn velocity_scale(&self, _fluid: &Fluid) -> f64 {
+        self.shape.speed
+    }
+
+    fn body_force(&self) -> Vec2 {
+        self.body_force
+    }
+
+    fn particles(&self) -> usize {
+        self.positions().len()
+    }
+
+    fn has_free_surface(&self) -> bool {
+        true
+    }
+
+    fn build(&self, fluid: &Fluid, scheme: &Scheme, scales: Scales) -> Setup {
+        let positions = self.positions();
+        Setup {
+            domain: Domain {
+                min: Vec2::new(-0.5 * self.length, 0.0),
+                max: Vec2::new(0.5 * self.length, self.height),
+                periodic: [false, false],
+            },
+            walls: vec![Surface::Plane(Wall::floor())],
+            velocity: vec![Vec2::new(0.0, -self.shape.speed); positions.len()],
+            positions,
+            spacing: self.spacing(),
+            fluid: *fluid,
+            scheme: *scheme,
+            body_force: self.body_force,
+            scales,
+            free_surface: true,
+            inflow: None,
+        }
+    }
+
+    fn reference(&self, _fluid: &Fluid) -> Result<Reference, String> {
+        Err("no analytic solution for a drop impact (see drop.csv)".into())
+    }
+
+    /// The centre-of-mass vertical velocity.
+    fn characteristic_velocity(&self, _positions: &[Vec2], velocity: &[Vec2]) -> f64 {
+        blocked_sum(velocity.len(), |i| velocity[i].y) / velocity.len() as f64
+    }
+
+    fn characteristic_name(&self) -> (&'static str, &'static str) {
+        ("Centre-of-mass velocity", "v")
+    }
+
+    fn drop_shape(&self) -> Option<DropShape> {
+        Some(self.shape)
+    }
+}
+
+impl Drop {
+    fn positions(&self) -> Vec<Vec2> {
+        disc(self.shape.centre, 0.5 * self.shape.diameter, self.spacing())
+    }
+}

@@ -1,0 +1,193 @@
+//! A jet fed through an orifice onto a no-slip plate (King & Lind §IV D): an orifice of width
+//! D centred on x = 0 at `orifice_height` above the plate y = 0, fed downwards at U0 through
+//! an inflow buffer, in an open box x ∈ [−length/2, length/2], y ∈ [0, height].
+
+use super::{check_box, check_memory, finite_force, support_in_dr, JetShape, Scene};
+use crate::analysis::reference::Reference;
+use crate::engine::boundary::inflow::{Inflow, BUFFER_ROWS};
+use crate::engine::boundary::{Surface, Wall};
+use crate::engine::math::Vec2;
+use crate::engine::neighbours::Domain;
+use crate::engine::reduce::blocked_sum;
+use crate::engine::rheology::Fluid;
+use crate::engine::scheme::Scheme;
+use crate::engine::step::{Scales, Setup};
+use crate::setup::error::{field_err, in_range, positive, FieldError};
+use serde::{Deserialize, Serialize};
+
+/// `[scene]` of `kind = "jet"`: `resolution` is D/δr, `velocity` the inflow speed U0,
+/// `body_force` gravity.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JetSpec {
+    pub length: f64,
+    pub height: f64,
+    /// Particles across the orifice, D/δr.
+    pub resolution: usize,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub body_force: Option<[f64; 2]>,
+    /// The inflow speed U0.
+    pub velocity: Option<f64>,
+    pub jet: Option<JetTable>,
+}
+
+/// `[scene.jet]`.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JetTable {
+    /// D.
+    pub width: f64,
+    pub orifice_height: f64,
+}
+
+/// A validated jet scene.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Jet {
+    pub length: f64,
+    pub height: f64,
+    pub resolution: usize,
+    pub body_force: Vec2,
+    /// U0.
+    pub speed: f64,
+    pub shape: JetShape,
+}
+
+impl JetSpec {
+    pub fn validate(&self) -> Result<Jet, FieldError> {
+        let (length, height, resolution) = (self.length, self.height, self.resolution);
+        check_box(length, height, resolution)?;
+        check_memory(0.25 * std::f64::consts::PI * (resolution as f64).powi(2))?;
+        let body_force = finite_force(self.body_force.unwrap_or([0.0, 0.0]))?;
+        let u = self.velocity.ok_or_else(|| {
+            field_err(
+                "scene.velocity",
+                "required for a drop (the impact speed U) or a jet (the inflow speed U0)",
+            )
+        })?;
+        let speed = in_range("scene.velocity", u, 0.0, f64::MAX)?;
+        let j = self.jet.as_ref().ok_or_else(|| {
+            field_err(
+                "scene.jet",
+                "required for a jet scene: [scene.jet] width = D, orifice_height = H",
+            )
+        })?;
+        let d = positive("scene.jet.width", j.width)?;
+        let orifice = positive("scene.jet.orifice_height", j.orifice_height)?;
+        let dr = d / resolution as f64;
+        let top = orifice + (BUFFER_ROWS as f64 + support_in_dr()) * dr;
+        if top > height {
+            return Err(field_err(
+                "scene.height",
+                format!("the box must hold the orifice, its inflow buffer and a kernel support: at least {top}"),
+            ));
+        }
+        if d + 2.0 * support_in_dr() * dr > length {
+            return Err(field_err(
+                "scene.length",
+                "the box must be wider than the jet and a kernel support each side",
+            ));
+        }
+        if speed <= 0.0 {
+            return Err(field_err(
+                "scene.velocity",
+                "a jet's inflow speed must be positive",
+            ));
+        }
+        Ok(Jet {
+            length,
+            height,
+            resolution,
+            body_force,
+            speed,
+            shape: JetShape {
+                width: d,
+                orifice_height: orifice,
+            },
+        })
+    }
+}
+
+impl Scene for Jet {
+    fn kind(&self) -> &'static str {
+        "jet"
+    }
+
+    fn length(&self) -> f64 {
+        self.length
+    }
+
+    fn height(&self) -> f64 {
+        self.height
+    }
+
+    fn resolution(&self) -> usize {
+        self.resolution
+    }
+
+    /// δr = D/resolution.
+    fn spacing(&self) -> f64 {
+        self.shape.width / self.resolution as f64
+    }
+
+    /// The width D (Wi = λU0/D).
+    fn length_scale(&self) -> f64 {
+        self.shape.width
+    }
+
+    fn velocity_scale(&self, _fluid: &Fluid) -> f64 {
+        self.speed
+    }
+
+    fn body_force(&self) -> Vec2 {
+        self.body_force
+    }
+
+    /// The initial inflow buffer (it grows as the jet runs).
+    fn particles(&self) -> usize {
+        self.resolution * BUFFER_ROWS
+    }
+
+    fn has_free_surface(&self) -> bool {
+        true
+    }
+
+    fn build(&self, fluid: &Fluid, scheme: &Scheme, scales: Scales) -> Setup {
+        let s = &self.shape;
+        let (inflow, positions) =
+            Inflow::new(0.0, s.width, s.orifice_height, self.speed, self.spacing());
+        Setup {
+            domain: Domain {
+                min: Vec2::new(-0.5 * self.length, 0.0),
+                max: Vec2::new(0.5 * self.length, self.height),
+                periodic: [false, false],
+            },
+            walls: vec![Surface::Plane(Wall::floor())],
+            velocity: vec![Vec2::new(0.0, -self.speed); positions.len()],
+            positions,
+            spacing: self.spacing(),
+            fluid: *fluid,
+            scheme: *scheme,
+            body_force: self.body_force,
+            scales,
+            free_surface: true,
+            inflow: Some(inflow),
+        }
+    }
+
+    fn reference(&self, _fluid: &Fluid) -> Result<Reference, String> {
+        Err("no analytic solution for a buckling jet (see jet.csv)".into())
+    }
+
+    /// The centre-of-mass vertical velocity.
+    fn characteristic_velocity(&self, _positions: &[Vec2], velocity: &[Vec2]) -> f64 {
+        blocked_sum(velocity.len(), |i| velocity[i].y) / velocity.len() as f64
+    }
+
+    fn characteristic_name(&self) -> (&'static str, &'static str) {
+        ("Centre-of-mass velocity", "v")
+    }
+
+    fn jet_shape(&self) -> Option<JetShape> {
+        Some(self.shape)
+    }
+}

@@ -1,0 +1,221 @@
+//! Scenes: the geometry, drive and initial state of a case. One file per scene kind holds its
+//! `[scene]` table as written ([`SceneSpec`] variant), its validation, and the validated type
+//! implementing [`Scene`], which builds the engine's [`Setup`] and names the scene's analytic
+//! reference and the velocity its series tracks.
+//!
+//! To add a scene: a file here with the spec, the type and its `impl Scene`, and one variant
+//! with its two match arms in [`SceneSpec`] below.
+
+pub mod channel;
+pub mod drop;
+pub mod jet;
+pub mod taylor_green;
+
+use crate::analysis::reference::Reference;
+use crate::engine::boundary::Circle;
+use crate::engine::kernel::{H_OVER_DR, SUPPORT_OVER_H};
+use crate::engine::math::Vec2;
+use crate::engine::rheology::Fluid;
+use crate::engine::scheme::Scheme;
+use crate::engine::step::{Scales, Setup};
+use crate::setup::error::{field_err, positive, read_table, FieldError};
+use serde::{Deserialize, Serialize};
+use std::fmt;
+use std::sync::Arc;
+
+/// The `[scene]` table as written, one type per `kind`.
+#[derive(Clone, Debug, Serialize)]
+#[serde(tag = "kind", rename_all = "kebab-case")]
+pub enum SceneSpec {
+    /// Periodic channel between two no-slip walls at y = 0 and y = height, optionally with
+    /// a cylinder (a periodic array of cylinders).
+    Channel(channel::ChannelSpec),
+    /// Taylor–Green vortex in a doubly periodic square box, no walls.
+    TaylorGreen(taylor_green::TaylorGreenSpec),
+    /// A free-surface drop falling onto a no-slip plate at y = 0 (King & Lind §IV C).
+    Drop(drop::DropSpec),
+    /// A jet fed through an orifice onto a no-slip plate at y = 0 (King & Lind §IV D).
+    Jet(jet::JetSpec),
+}
+
+/// The kinds in case files, for the error that names them.
+const KINDS: &str = "`channel`, `taylor-green`, `drop` or `jet`";
+
+impl SceneSpec {
+    /// Reads the `[scene]` table: its `kind` first, then the table as that kind's spec, so
+    /// that an unknown or misplaced key is named as `scene.<key>`.
+    pub fn from_table(mut table: toml::Table) -> Result<Self, FieldError> {
+        let kind = match table.remove("kind") {
+            Some(toml::Value::String(k)) => k,
+            Some(_) => return Err(field_err("scene.kind", format!("must be one of {KINDS}"))),
+            None => return Err(field_err("scene.kind", format!("missing: one of {KINDS}"))),
+        };
+        let value = toml::Value::Table(table);
+        Ok(match kind.as_str() {
+            "channel" => SceneSpec::Channel(read(value)?),
+            "taylor-green" => SceneSpec::TaylorGreen(read(value)?),
+            "drop" => SceneSpec::Drop(read(value)?),
+            "jet" => SceneSpec::Jet(read(value)?),
+            other => {
+                return Err(field_err(
+                    "scene.kind",
+                    format!("unknown scene kind `{other}`, expected {KINDS}"),
+                ))
+            }
+        })
+    }
+
+    /// Validates the spec into its scene.
+    pub fn validate(&self) -> Result<Arc<dyn Scene>, FieldError> {
+        Ok(match self {
+            SceneSpec::Channel(s) => Arc::new(s.validate()?),
+            SceneSpec::TaylorGreen(s) => Arc::new(s.validate()?),
+            SceneSpec::Drop(s) => Arc::new(s.validate()?),
+            SceneSpec::Jet(s) => Arc::new(s.validate()?),
+        })
+    }
+}
+
+/// Deserializes one kind's table, errors naming `scene.<field>`.
+fn read<T: for<'de> Deserialize<'de>>(value: toml::Value) -> Result<T, FieldError> {
+    read_table(value, "scene")
+}
+
+/// The drop of a drop scene: its centre and diameter W, and the impact speed U.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DropShape {
+    pub centre: Vec2,
+    pub diameter: f64,
+    pub speed: f64,
+}
+
+/// The orifice of a jet scene: width D and height above the plate.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct JetShape {
+    pub width: f64,
+    pub orifice_height: f64,
+}
+
+/// A validated scene.
+pub trait Scene: fmt::Debug + Send + Sync {
+    /// The `kind` naming it in case files.
+    fn kind(&self) -> &'static str;
+    /// The box: x ∈ [0, length] (or [−length/2, length/2] for an open scene), y ∈ [0, height].
+    fn length(&self) -> f64;
+    fn height(&self) -> f64;
+    /// Particles across the scene's resolved length (see [`Self::spacing`]).
+    fn resolution(&self) -> usize;
+    /// δr.
+    fn spacing(&self) -> f64 {
+        self.height() / self.resolution() as f64
+    }
+    /// The length L of Re = ρUL/η0 and Wi = λU/L.
+    fn length_scale(&self) -> f64 {
+        self.height()
+    }
+    /// The velocity scale U of Re and Wi.
+    fn velocity_scale(&self, fluid: &Fluid) -> f64;
+    /// Body force per unit mass.
+    fn body_force(&self) -> Vec2;
+    /// Initial particle count (a jet's grows).
+    fn particles(&self) -> usize;
+    /// Free surfaces: detection, Dirichlet pressure, free-surface shifting and stress
+    /// divergence (the scene needs a moving frame).
+    fn has_free_surface(&self) -> bool {
+        false
+    }
+    /// The engine's initial state.
+    fn build(&self, fluid: &Fluid, scheme: &Scheme, scales: Scales) -> Setup;
+    /// The analytic reference of the flow, or why there is none.
+    fn reference(&self, fluid: &Fluid) -> Result<Reference, String>;
+    /// The velocity `series.csv` tracks (`u_centre`) and its name for charts (title, axis).
+    fn characteristic_velocity(&self, positions: &[Vec2], velocity: &[Vec2]) -> f64;
+    fn characteristic_name(&self) -> (&'static str, &'static str);
+    /// Whether the flow is along x and varies across y only (profiles are drawn against y).
+    fn varies_across_height(&self) -> bool {
+        false
+    }
+    /// A solid cylinder in the flow, whose drag and wake the run reports.
+    fn cylinder(&self) -> Option<Circle> {
+        None
+    }
+    fn drop_shape(&self) -> Option<DropShape> {
+        None
+    }
+    fn jet_shape(&self) -> Option<JetShape> {
+        None
+    }
+}
+
+/// The kernel support in particle spacings (3h = 3.9δr).
+pub(crate) fn support_in_dr() -> f64 {
+    SUPPORT_OVER_H * H_OVER_DR
+}
+
+/// Checks of the box common to every scene: positive sizes and at least two kernel supports
+/// across the height (mirrors of two walls must not meet).
+pub(crate) fn check_box(length: f64, height: f64, resolution: usize) -> Result<(), FieldError> {
+    positive("scene.length", length)?;
+    positive("scene.height", height)?;
+    let min_resolution = (2.0 * support_in_dr()).ceil() as usize;
+    if resolution < min_resolution {
+        return Err(field_err(
+            "scene.resolution",
+            format!(
+                "must be at least {min_resolution} particles across the height (two kernel supports of {}δr), got {resolution}",
+                support_in_dr()
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// A periodic box: a whole number of spacings `height/resolution` along x, and at least three
+/// kernel supports (the neighbour search needs three cells of one support each). Returns
+/// the number of columns.
+pub(crate) fn check_periodic_length(
+    length: f64,
+    height: f64,
+    resolution: usize,
+) -> Result<usize, FieldError> {
+    let dr = height / resolution as f64;
+    let columns = length / dr;
+    if (columns - columns.round()).abs() > 1e-6 * columns {
+        return Err(field_err(
+            "scene.length",
+            format!("must be a whole number of particle spacings height/resolution = {dr}, got {columns:.4} spacings"),
+        ));
+    }
+    if columns.round() < (3.0 * support_in_dr()).ceil() {
+        return Err(field_err(
+            "scene.length",
+            format!("the periodic length must hold three kernel supports ({:.0} spacings), got {columns:.0}", (3.0 * support_in_dr()).ceil()),
+        ));
+    }
+    Ok(columns.round() as usize)
+}
+
+/// The estimated heap of `particles` must fit in what this build allows.
+pub(crate) fn check_memory(particles: f64) -> Result<(), FieldError> {
+    use crate::setup::derived::{BYTES_PER_PARTICLE, MAX_MEMORY_BYTES};
+    let memory = particles * BYTES_PER_PARTICLE;
+    if memory > MAX_MEMORY_BYTES {
+        return Err(field_err(
+            "scene.resolution",
+            format!(
+                "{particles:.3e} particles would need about {:.1} GiB (≈{BYTES_PER_PARTICLE} bytes each), above the {} GiB this build allows",
+                memory / 1024f64.powi(3),
+                MAX_MEMORY_BYTES / 1024f64.powi(3)
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// The body force of a scene that must be finite.
+pub(crate) fn finite_force(g: [f64; 2]) -> Result<Vec2, FieldError> {
+    if !(g[0].is_finite() && g[1].is_finite()) {
+        return Err(field_err("scene.body_force", "must be finite"));
+    }
+    Ok(Vec2::new(g[0], g[1]))
+}
