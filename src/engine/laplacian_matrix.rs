@@ -5,38 +5,21 @@
 //!     (L φ)_i = Σ_j w_ij (φ_i − φ_j),   w_ij = 2 (r_ij·∇Ŵ_ij)/|r_ij|² δV   (< 0 in full support),
 //! ```
 //!
-//! and a mirror j of fluid particle k carries φ_j = σ φ_k: σ = +1 for a homogeneous Neumann
-//! scalar (pressure), σ = −1 for an odd, no-slip velocity component. The PPE (25) uses
-//! d = 0, c = −1/ρ, σ = +1; the implicit viscous predictor d = 1, c = −δt ν, σ = −1.
+//! and a mirror j of fluid particle k carries φ_j = σ φ_k with σ the linear factor of its
+//! wall's condition for the field ([`Field`], see [`crate::engine::boundary::condition`]):
+//! +1 for the pressure (homogeneous Neumann), −1 for a no-slip velocity component. The PPE
+//! (25) uses d = 0, c = −1/ρ; the implicit viscous predictor d = 1, c = −δt ν.
 //!
 //! Assembly is parallel over rows into buffers reused from step to step: each row is written
 //! into a slot sized by its neighbour count, sorted and merged in place, then compacted into
 //! CSR (sprs), whose buffers are handed back after every solve.
 
-use crate::engine::boundary::Ghosts;
+use crate::engine::boundary::{Field, Ghosts};
 use crate::engine::neighbours::{NeighbourList, RowWriter};
 use crate::engine::operators::KernelSums;
 use rayon::prelude::*;
 use rheosph_solver::{SolveError, SolveReport, Solver, SolverOptions};
 use sprs::CsMat;
-
-/// The value a mirror carries, relative to its parent's.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum MirrorRule {
-    /// φ_j = φ_k: homogeneous Neumann (pressure).
-    Even,
-    /// φ_j = −φ_k: no-slip velocity.
-    Odd,
-}
-
-impl MirrorRule {
-    fn sign(self) -> f64 {
-        match self {
-            MirrorRule::Even => 1.0,
-            MirrorRule::Odd => -1.0,
-        }
-    }
-}
 
 /// Reusable CSR buffers of `d I + c L` and a solver for it.
 #[derive(Default)]
@@ -50,7 +33,8 @@ pub struct LaplacianMatrix {
 }
 
 impl LaplacianMatrix {
-    /// Assembles `d I + c L` with mirrors folded by `rule`; rows flagged in `identity_rows`
+    /// Assembles `d I + c L` with mirrors of `field` folded into their parents' columns; rows
+    /// flagged in `identity_rows`
     /// (empty: none) are replaced by identity rows, the Dirichlet rows of free-surface
     /// particles.
     #[allow(clippy::too_many_arguments)]
@@ -59,7 +43,7 @@ impl LaplacianMatrix {
         list: &NeighbourList,
         sums: &KernelSums,
         ghosts: &Ghosts,
-        rule: MirrorRule,
+        field: Field,
         d: f64,
         c: f64,
         identity_rows: &[bool],
@@ -91,7 +75,7 @@ impl LaplacianMatrix {
                     vals[0] = 1.0;
                     1
                 } else {
-                    assemble_row(i, n, list, sums, ghosts, rule.sign(), d, c, cols, vals)
+                    assemble_row(i, n, list, sums, ghosts, field, d, c, cols, vals)
                 };
             });
 
@@ -171,7 +155,7 @@ fn assemble_row(
     list: &NeighbourList,
     sums: &KernelSums,
     ghosts: &Ghosts,
-    sign: f64,
+    field: Field,
     d: f64,
     c: f64,
     cols: &mut [usize],
@@ -186,7 +170,8 @@ fn assemble_row(
         let (col, coefficient) = if j < n_fluid {
             (j, -w)
         } else {
-            (ghosts.owner(j, n_fluid), -sign * w)
+            let g = j - n_fluid;
+            (ghosts.parent[g] as usize, -ghosts.sign(field, g) * w)
         };
         if col == i {
             diagonal += coefficient; // own mirror
@@ -227,7 +212,7 @@ fn assemble_row(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::engine::boundary::Wall;
+    use crate::engine::boundary::{Plane, Shape, TensorMirror, Wall};
     use crate::engine::kernel::QuinticSpline;
     use crate::engine::math::Vec2;
     use crate::engine::neighbours::{Domain, NeighbourSearch};
@@ -254,38 +239,37 @@ mod tests {
             })
             .collect();
         let n = points.len();
-        let mut ghosts = Ghosts::walls(vec![
-            Wall {
-                axis: 1,
-                position: 0.0,
-                fluid_side: 1.0,
-            },
-            Wall {
-                axis: 1,
-                position: 1.0,
-                fluid_side: -1.0,
-            },
-        ]);
+        let plane = |position, fluid_side| {
+            Wall::no_slip(
+                Shape::Plane(Plane {
+                    axis: 1,
+                    position,
+                    fluid_side,
+                }),
+                TensorMirror::Even,
+            )
+        };
+        let mut ghosts = Ghosts::new(vec![plane(0.0, 1.0), plane(1.0, -1.0)]);
         ghosts.build(kernel.support(), &mut points);
         let mut list = NeighbourList::default();
         NeighbourSearch::new().build(&domain, &points, n, kernel.support(), &mut list);
         let mut sums = KernelSums::default();
         sums.update(&list, &kernel, dr * dr);
         let field: Vec<f64> = (0..n).map(|k| (k as f64 * 0.37).sin()).collect();
-        for (rule, d, c) in [(MirrorRule::Even, 0.0, -1.0), (MirrorRule::Odd, 1.0, -0.01)] {
+        for (kind, d, c) in [(Field::Pressure, 0.0, -1.0), (Field::Velocity, 1.0, -0.01)] {
             let mut m = LaplacianMatrix::default();
-            m.assemble(&list, &sums, &ghosts, rule, d, c, &[]);
+            m.assemble(&list, &sums, &ghosts, kind, d, c, &[]);
             let a = CsMat::new((n, n), m.indptr.clone(), m.indices.clone(), m.data.clone());
             let mut ax = vec![0.0; n];
             rheosph_solver::vector::spmv(&a, &field, &mut ax);
             // The operator form on a vector field whose x component is `field`.
             let velocity: Vec<Vec2> = field.iter().map(|&f| Vec2::new(f, 0.0)).collect();
             let mut ext = Vec::new();
-            match rule {
-                MirrorRule::Odd => ghosts.extend_velocity(&velocity, &mut ext),
-                MirrorRule::Even => {
+            match kind {
+                Field::Velocity => ghosts.extend_velocity(&velocity, &mut ext),
+                Field::Pressure => {
                     let mut s = Vec::new();
-                    ghosts.extend_scalar(&field, &mut s);
+                    ghosts.extend_pressure(&field, &mut s);
                     ext = s.iter().map(|&v| Vec2::new(v, 0.0)).collect();
                 }
             }
@@ -295,7 +279,7 @@ mod tests {
                 let expected = d * field[i] + c * lap[i].x;
                 assert!(
                     (ax[i] - expected).abs() < 1e-9 * (1.0 + expected.abs()),
-                    "{rule:?} row {i}"
+                    "{kind:?} row {i}"
                 );
             }
         }

@@ -22,6 +22,7 @@ pub mod reduce;
 pub mod rheology;
 pub mod scheme;
 pub mod shifting;
+pub mod state;
 pub mod step;
 pub mod timing;
 pub mod viscosity;

@@ -11,14 +11,15 @@
 //! Dirichlet condition of the normal-stress balance (35a) (or p = 0); the matrix is then
 //! non-singular and non-symmetric (BiCGStab does not need symmetry).
 
+use crate::engine::boundary::Field;
 use crate::engine::boundary::Ghosts;
 use crate::engine::frame::Frame;
-use crate::engine::laplacian_matrix::{LaplacianMatrix, MirrorRule};
+use crate::engine::laplacian_matrix::LaplacianMatrix;
 use crate::engine::math::Vec2;
 use crate::engine::neighbours::NeighbourList;
 use crate::engine::operators::KernelSums;
 use crate::engine::scheme::PpeSettings;
-use crate::engine::step::Scales;
+use crate::engine::state::Scales;
 use rayon::prelude::*;
 use rheosph_solver::{NullSpace, SolveError, SolveReport, SolverOptions, Strategy};
 
@@ -69,7 +70,7 @@ impl PressureSystem {
             list,
             sums,
             ghosts,
-            MirrorRule::Even,
+            Field::Pressure,
             0.0,
             -1.0 / density,
             surface,
@@ -209,7 +210,7 @@ impl PressureStage {
         dt_over_rho: f64,
         velocity_star: &mut [Vec2],
     ) {
-        ghosts.extend_scalar(solved, &mut self.pressure_ext);
+        ghosts.extend_pressure(solved, &mut self.pressure_ext);
         self.gradient.resize(velocity_star.len(), Vec2::zeros());
         sums.gradient_scalar(list, &self.pressure_ext, &mut self.gradient);
         velocity_star

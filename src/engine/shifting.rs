@@ -63,7 +63,7 @@ pub struct ShiftInputs<'a> {
     pub dt: f64,
     /// Fluid positions r* (for the distance to walls).
     pub points: &'a [Vec2],
-    pub walls: &'a [crate::engine::boundary::Surface],
+    pub walls: &'a [crate::engine::boundary::Wall],
     /// The free surface of this step (free-surface scenes).
     pub surface: Option<&'a FreeSurface>,
 }
@@ -266,7 +266,7 @@ pub fn free_surface_shifting_velocity(
 /// impact.
 pub fn keep_off_walls(
     points: &[Vec2],
-    walls: &[crate::engine::boundary::Surface],
+    walls: &[crate::engine::boundary::Wall],
     region: &[bool],
     reach: f64,
     u_ps: &mut [Vec2],
@@ -277,9 +277,9 @@ pub fn keep_off_walls(
         }
         let p = points[i];
         for wall in walls {
-            let d = wall.distance(&p);
+            let d = wall.shape.distance(&p);
             if d > 0.0 && d < reach {
-                let into_fluid = (p - wall.reflect(&p)) / (2.0 * d);
+                let into_fluid = (p - wall.shape.reflect(&p)) / (2.0 * d);
                 let toward = u.dot(&into_fluid);
                 if toward < 0.0 {
                     *u -= toward * into_fluid;
@@ -299,11 +299,8 @@ mod tests {
     /// reach keep theirs.
     #[test]
     fn shifting_never_walks_surface_particles_into_a_wall() {
-        let plate = crate::engine::boundary::Surface::Plane(crate::engine::boundary::Wall {
-            axis: 1,
-            position: 0.0,
-            fluid_side: 1.0,
-        });
+        use crate::engine::boundary::{Plane, Shape, TensorMirror, Wall};
+        let plate = Wall::no_slip(Shape::Plane(Plane::floor()), TensorMirror::Even);
         let points = [
             Vec2::new(0.0, 0.05),
             Vec2::new(1.0, 0.05),

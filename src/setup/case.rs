@@ -1,60 +1,14 @@
-//! A validated case: the scene, the fluid, the scheme and the run's settings, each checked
-//! once; nothing downstream re-checks strings or ranges. [`load`] and [`parse`] read a case
-//! file with `--set` overrides; every error names the file and the dotted field.
+//! Case files: [`load`] and [`parse`] read one with `--set` overrides into a validated
+//! [`Case`] (the scene, the fluid, the scheme and the run's settings, each checked once;
+//! nothing downstream re-checks strings or ranges). Every error names the file and the dotted
+//! field.
 
-use crate::engine::rheology::Fluid;
-use crate::engine::scheme::Scheme;
-use crate::engine::step::{Scales, Setup};
 pub use crate::setup::derived::Derived;
 pub use crate::setup::error::CaseError;
 use crate::setup::overrides::apply_override;
-use crate::setup::scenes::Scene;
 pub use crate::setup::schema::CaseFile;
+pub use crate::setup::validate::{Case, SteadyCriterion};
 use std::path::Path;
-use std::sync::Arc;
-
-/// The criterion of `run.steady`: ⟨u⟩ varying by less than `tolerance` (relative) over
-/// `window` time units, then averages over `average` time units (King & Lind: 2 % over 1,
-/// then 3).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SteadyCriterion {
-    /// Largest (max − min)/|mean| of ⟨u⟩ over the window (default 0.02).
-    pub tolerance: f64,
-    /// The window over which the variation is measured (default 1).
-    pub window: f64,
-    /// The averaging time after steady state is reached (default 3).
-    pub average: f64,
-}
-
-/// A validated case.
-#[derive(Clone, Debug)]
-pub struct Case {
-    pub name: String,
-    pub scene: Arc<dyn Scene>,
-    pub fluid: Fluid,
-    pub scheme: Scheme,
-    pub end_time: f64,
-    pub output_interval: f64,
-    pub snapshot_interval: f64,
-    pub checkpoint_interval: f64,
-    pub steady: Option<SteadyCriterion>,
-    /// The file as given (after overrides), echoed into the run summary.
-    pub source: CaseFile,
-}
-
-impl Case {
-    /// The engine's initial state for this case.
-    pub fn setup(&self) -> Setup {
-        let scales = Scales {
-            length: self.scene.length_scale(),
-            velocity: self
-                .scene
-                .velocity_scale(&self.fluid)
-                .max(f64::MIN_POSITIVE),
-        };
-        self.scene.build(&self.fluid, &self.scheme, scales)
-    }
-}
 
 /// Reads, overrides and validates a case file.
 pub fn load(path: &Path, overrides: &[String]) -> Result<Case, CaseError> {

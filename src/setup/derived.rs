@@ -3,7 +3,8 @@
 
 use crate::engine::kernel::H_OVER_DR;
 use crate::engine::viscosity::{advective_limit, elastic_limit, viscous_limit};
-use crate::setup::case::Case;
+use crate::setup::scenes::BYTES_PER_PARTICLE;
+use crate::setup::validate::Case;
 use serde::Serialize;
 
 /// Numbers derived from a case.
@@ -30,12 +31,6 @@ pub struct Derived {
     /// Particles × the measured heap per particle (`rheosph bench`).
     pub estimated_memory_bytes: f64,
 }
-
-/// Heap bytes per particle measured by `rheosph bench` (3 285 at 64k particles, explicit
-/// viscosity), rounded up for the implicit solver's second matrix.
-pub const BYTES_PER_PARTICLE: f64 = 4000.0;
-/// Largest estimated heap a case may ask for.
-pub const MAX_MEMORY_BYTES: f64 = 16.0 * 1024.0 * 1024.0 * 1024.0;
 
 impl Case {
     /// Derived numbers (see [`Derived`]).

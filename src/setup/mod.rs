@@ -10,4 +10,4 @@ pub mod error;
 pub mod overrides;
 pub mod scenes;
 pub mod schema;
-mod validate;
+pub mod validate;

@@ -1,14 +1,58 @@
-//! Validation of the fluid, scheme and run tables into the engine's types (the scene
-//! validates itself, see [`crate::setup::scenes`]).
+//! A validated case, and the validation of the fluid, scheme and run tables into the
+//! engine's types (the scene validates itself, see [`crate::setup::scenes`]).
 
 use crate::engine::frame::Frame;
 use crate::engine::projection::Projection;
 use crate::engine::rheology::{Fluid, Model, Solvent, MODELS};
 use crate::engine::scheme::{PpeSettings, Scheme};
+use crate::engine::step::{Scales, Setup};
 use crate::engine::viscosity::Viscosity;
-use crate::setup::case::{Case, SteadyCriterion};
 use crate::setup::error::{field_err, in_range, positive, FieldError};
 use crate::setup::scenes::Scene;
+use std::sync::Arc;
+
+/// The criterion of `run.steady`: ⟨u⟩ varying by less than `tolerance` (relative) over
+/// `window` time units, then averages over `average` time units (King & Lind: 2 % over 1,
+/// then 3).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SteadyCriterion {
+    /// Largest (max − min)/|mean| of ⟨u⟩ over the window (default 0.02).
+    pub tolerance: f64,
+    /// The window over which the variation is measured (default 1).
+    pub window: f64,
+    /// The averaging time after steady state is reached (default 3).
+    pub average: f64,
+}
+
+/// A validated case.
+#[derive(Clone, Debug)]
+pub struct Case {
+    pub name: String,
+    pub scene: Arc<dyn Scene>,
+    pub fluid: Fluid,
+    pub scheme: Scheme,
+    pub end_time: f64,
+    pub output_interval: f64,
+    pub snapshot_interval: f64,
+    pub checkpoint_interval: f64,
+    pub steady: Option<SteadyCriterion>,
+    /// The file as given (after overrides), echoed into the run summary.
+    pub source: CaseFile,
+}
+
+impl Case {
+    /// The engine's initial state for this case.
+    pub fn setup(&self) -> Setup {
+        let scales = Scales {
+            length: self.scene.length_scale(),
+            velocity: self
+                .scene
+                .velocity_scale(&self.fluid)
+                .max(f64::MIN_POSITIVE),
+        };
+        self.scene.build(&self.fluid, &self.scheme, scales)
+    }
+}
 use crate::setup::schema::{CaseFile, FluidSpec, ProjectionChoice, RunSpec, SchemeSpec};
 
 pub fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {

@@ -1,9 +1,87 @@
-//! Dispatch of `rheosph study ...`: arguments into a [`Base`] and the study's settings.
+//! `rheosph study ...`: its arguments, and their dispatch into a [`Base`] and the study's
+//! settings.
 
 use super::{convergence, cylinder, parse_vary, speed_accuracy, stability, Base};
-use crate::app::cli::{StudyCommand, StudyCommon};
+use crate::app::cli::args::CaseArgs;
 use anyhow::Result;
+use clap::{Args, Subcommand};
 use std::path::PathBuf;
+
+#[derive(Subcommand, Debug)]
+pub enum StudyCommand {
+    /// L2 error against time and resolution, with the observed order.
+    Convergence(ConvergenceArgs),
+    /// Largest stable Wi of scheme variants; outcome per (variant, Wi).
+    Stability(StabilityArgs),
+    /// Wall time against L2 error with the Pareto front.
+    SpeedAccuracy(SpeedAccuracyArgs),
+    /// A cylinder in a channel over Wi: steady drag and centre-line profiles overlaid.
+    Cylinder(CylinderArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct CylinderArgs {
+    #[command(flatten)]
+    pub common: StudyCommon,
+    /// Weissenberg numbers Wi = ⟨u⟩λ/R (λ is set for each; 0 runs the Newtonian fluid).
+    #[arg(long, value_delimiter = ',', required = true)]
+    pub wi: Vec<f64>,
+    /// Published drag values to draw beside ours: a CSV with columns `wi,k`.
+    #[arg(long, value_name = "FILE")]
+    pub reference: Option<PathBuf>,
+}
+
+#[derive(Args, Debug)]
+pub struct StudyCommon {
+    #[command(flatten)]
+    pub case: CaseArgs,
+    /// Output directory (default: runs/<study>-<case name>).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Runs executed concurrently (each with its share of the threads); results do not
+    /// depend on it.
+    #[arg(long, default_value_t = 1)]
+    pub jobs: usize,
+}
+
+#[derive(Args, Debug)]
+pub struct ConvergenceArgs {
+    #[command(flatten)]
+    pub common: StudyCommon,
+    #[arg(long, value_delimiter = ',', default_value = "15,30,60")]
+    pub resolutions: Vec<usize>,
+    #[arg(long, value_delimiter = ',', default_value = "lagrangian")]
+    pub frames: Vec<String>,
+}
+
+#[derive(Args, Debug)]
+pub struct StabilityArgs {
+    #[command(flatten)]
+    pub common: StudyCommon,
+    /// Weissenberg numbers (λ = Wi·H/U is set for each).
+    #[arg(long, value_delimiter = ',', required = true)]
+    pub wi: Vec<f64>,
+    /// A scheme variant dimension, `key=v1,v2` (repeatable; all combinations run).
+    #[arg(long = "vary", value_name = "KEY=V1,V2")]
+    pub vary: Vec<String>,
+    /// Largest time-mean L2 error (in U) of a run counted as accurate.
+    #[arg(long, default_value_t = 0.1)]
+    pub accuracy: f64,
+    /// Redraw `stability_map.png` from the study's `stability.csv` without running anything.
+    #[arg(long)]
+    pub replot: bool,
+}
+
+#[derive(Args, Debug)]
+pub struct SpeedAccuracyArgs {
+    #[command(flatten)]
+    pub common: StudyCommon,
+    #[arg(long, value_delimiter = ',', default_value = "15,30,60")]
+    pub resolutions: Vec<usize>,
+    /// A configuration dimension, `key=v1,v2` (repeatable; all combinations run).
+    #[arg(long = "vary", value_name = "KEY=V1,V2")]
+    pub vary: Vec<String>,
+}
 
 fn base_and_out(common: &StudyCommon, study: &str) -> Result<(Base, PathBuf)> {
     let base = Base {

@@ -11,7 +11,7 @@
 //! paper uses a Neumann condition on ghosts behind a wall; our buffer has none).
 
 use crate::engine::math::{Sym2, Vec2};
-use crate::engine::step::State;
+use crate::engine::state::State;
 
 /// Buffer rows: more than the kernel support (3.9δr), so a released particle has a full
 /// neighbourhood above it.

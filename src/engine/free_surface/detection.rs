@@ -106,8 +106,7 @@ impl FreeSurface {
                 *div = sum_div;
                 *raw = -sum_grad * inv_h;
             });
-        let mean_c =
-            crate::analysis::diagnostics::blocked_sum(n, |i| self.concentration[i]) / n as f64;
+        let mean_c = crate::engine::reduce::blocked_sum(n, |i| self.concentration[i]) / n as f64;
         let (c, div) = (&self.concentration, &self.position_divergence);
         self.on_surface.resize(n, false);
         self.on_surface

@@ -56,7 +56,7 @@ impl Simulation {
                 ));
             }
         }
-        let walls = &self.stages.hood.ghosts.surfaces;
+        let walls = &self.stages.hood.ghosts.walls;
         if let Some(p) = s
             .position
             .par_iter()

@@ -16,13 +16,12 @@
 //! δt follows (28) ([`Viscosity::dt_limit`](crate::engine::viscosity::Viscosity::dt_limit)).
 
 mod checks;
-mod state;
 
 pub use crate::engine::ordering::REORDER_INTERVAL;
-pub use state::{Breakdown, Scales, Setup, State, StepReport};
+pub use crate::engine::state::{Breakdown, Scales, State, StepReport};
 
 use crate::engine::boundary::inflow::Inflow;
-use crate::engine::boundary::Ghosts;
+use crate::engine::boundary::{Ghosts, Wall};
 use crate::engine::free_surface::{FreeSurface, FreeSurfaceStage};
 use crate::engine::kernel::QuinticSpline;
 use crate::engine::math::{Mat2, Sym2, Vec2};
@@ -39,6 +38,27 @@ use crate::engine::shifting::{ShiftInputs, ShiftRule, Shifting};
 use crate::engine::timing::{Stage, StageSeconds};
 use crate::engine::viscosity::ViscousStage;
 use rayon::prelude::*;
+
+/// Everything needed to start a simulation.
+#[derive(Clone, Debug)]
+pub struct Setup {
+    pub domain: Domain,
+    /// Solid walls (planes, cylinders) that create mirror particles.
+    pub walls: Vec<Wall>,
+    pub positions: Vec<Vec2>,
+    /// Initial velocity of each particle.
+    pub velocity: Vec<Vec2>,
+    pub spacing: f64,
+    pub fluid: Fluid,
+    pub scheme: Scheme,
+    pub body_force: Vec2,
+    pub scales: Scales,
+    /// Free surfaces: detection and Dirichlet pressure (35a), the free-surface shifting
+    /// (40)–(44) and the positive stress divergence (20).
+    pub free_surface: bool,
+    /// An inflow buffer (jets).
+    pub inflow: Option<Inflow>,
+}
 
 /// The stage objects of the step, built once from the scheme.
 struct Stages {
@@ -85,8 +105,7 @@ impl Simulation {
         } else {
             Vec::new()
         };
-        let mut ghosts = Ghosts::new(setup.walls);
-        ghosts.tensor_mirror = scheme.wall_conformation;
+        let ghosts = Ghosts::new(setup.walls);
         // Free surfaces take the positive divergence form of (20) with L = I.
         let form = if setup.free_surface {
             DivergenceForm::Positive
@@ -266,7 +285,7 @@ impl Simulation {
                 spacing: self.spacing,
                 dt,
                 points: &st.hood.points,
-                walls: &ghosts.surfaces,
+                walls: &ghosts.walls,
                 surface: st.free_surface.as_ref().map(|fs| &fs.surface),
             };
             st.shifting
@@ -473,9 +492,9 @@ impl Simulation {
         grad_u.iter().map(|g| g[(1, 0)] - g[(0, 1)]).collect()
     }
 
-    /// The solid surfaces that create mirror particles.
-    pub fn walls(&self) -> &[crate::engine::boundary::Surface] {
-        &self.stages.hood.ghosts.surfaces
+    /// The solid walls that create mirror particles.
+    pub fn walls(&self) -> &[crate::engine::boundary::Wall] {
+        &self.stages.hood.ghosts.walls
     }
 }
 

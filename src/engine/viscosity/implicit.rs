@@ -11,8 +11,9 @@
 //! (an M-matrix in full support), so the solve is cheap, and δt is freed from the viscous
 //! limit ρh²/η0 of (28): see [`super::Viscosity::dt_limit`].
 
+use crate::engine::boundary::Field;
 use crate::engine::boundary::Ghosts;
-use crate::engine::laplacian_matrix::{LaplacianMatrix, MirrorRule};
+use crate::engine::laplacian_matrix::LaplacianMatrix;
 use crate::engine::math::Vec2;
 use crate::engine::neighbours::NeighbourList;
 use crate::engine::operators::KernelSums;
@@ -50,7 +51,7 @@ impl ImplicitViscosity {
         tolerance: f64,
     ) -> Result<[SolveReport; 2], SolveError> {
         self.matrix
-            .assemble(list, sums, ghosts, MirrorRule::Odd, 1.0, -nu_dt, prescribed);
+            .assemble(list, sums, ghosts, Field::Velocity, 1.0, -nu_dt, prescribed);
         let options = SolverOptions {
             relative_tolerance: tolerance,
             absolute_tolerance: 0.0,

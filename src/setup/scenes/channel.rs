@@ -4,7 +4,7 @@
 use super::{check_box, check_memory, check_periodic_length, finite_force, support_in_dr, Scene};
 use crate::analysis::diagnostics::centre_line_velocity;
 use crate::analysis::reference::Reference;
-use crate::engine::boundary::{Circle, Surface, Wall};
+use crate::engine::boundary::{Circle, Plane, Shape, Wall};
 use crate::engine::lattice::lattice;
 use crate::engine::math::Vec2;
 use crate::engine::neighbours::Domain;
@@ -212,15 +212,16 @@ impl Scene for Channel {
 
     fn build(&self, fluid: &Fluid, scheme: &Scheme, scales: Scales) -> Setup {
         let positions = self.positions();
+        let wall = |shape| Wall::no_slip(shape, scheme.wall_conformation);
         let mut walls = vec![
-            Surface::Plane(Wall::floor()),
-            Surface::Plane(Wall {
+            wall(Shape::Plane(Plane::floor())),
+            wall(Shape::Plane(Plane {
                 axis: 1,
                 position: self.height,
                 fluid_side: -1.0,
-            }),
+            })),
         ];
-        walls.extend(self.cylinder.map(Surface::Circle));
+        walls.extend(self.cylinder.map(|c| wall(Shape::Circle(c))));
         Setup {
             domain: Domain {
                 min: Vec2::zeros(),

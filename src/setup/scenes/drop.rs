@@ -4,7 +4,7 @@
 
 use super::{check_box, check_memory, finite_force, support_in_dr, DropShape, Scene};
 use crate::analysis::reference::Reference;
-use crate::engine::boundary::{Surface, Wall};
+use crate::engine::boundary::{Plane, Shape, Wall};
 use crate::engine::lattice::disc;
 use crate::engine::math::Vec2;
 use crate::engine::neighbours::Domain;
@@ -153,7 +153,10 @@ impl Scene for Drop {
                 max: Vec2::new(0.5 * self.length, self.height),
                 periodic: [false, false],
             },
-            walls: vec![Surface::Plane(Wall::floor())],
+            walls: vec![Wall::no_slip(
+                Shape::Plane(Plane::floor()),
+                scheme.wall_conformation,
+            )],
             velocity: vec![Vec2::new(0.0, -self.shape.speed); positions.len()],
             positions,
             spacing: self.spacing(),

@@ -5,7 +5,7 @@
 use super::{check_box, check_memory, finite_force, support_in_dr, JetShape, Scene};
 use crate::analysis::reference::Reference;
 use crate::engine::boundary::inflow::{Inflow, BUFFER_ROWS};
-use crate::engine::boundary::{Surface, Wall};
+use crate::engine::boundary::{Plane, Shape, Wall};
 use crate::engine::math::Vec2;
 use crate::engine::neighbours::Domain;
 use crate::engine::reduce::blocked_sum;
@@ -161,7 +161,10 @@ impl Scene for Jet {
                 max: Vec2::new(0.5 * self.length, self.height),
                 periodic: [false, false],
             },
-            walls: vec![Surface::Plane(Wall::floor())],
+            walls: vec![Wall::no_slip(
+                Shape::Plane(Plane::floor()),
+                scheme.wall_conformation,
+            )],
             velocity: vec![Vec2::new(0.0, -self.speed); positions.len()],
             positions,
             spacing: self.spacing(),

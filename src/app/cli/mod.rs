@@ -1,0 +1,121 @@
+//! The command line: argument types and dispatch. Each subcommand converts its raw arguments
+//! into typed settings once (a validated [`Case`](crate::setup::case::Case)) and calls the library.
+
+pub mod args;
+
+use crate::app::run::{self, Outcome, RunOptions};
+use crate::app::study::cli::StudyCommand;
+use crate::setup::case::{self, CaseError};
+use args::{BenchArgs, CaseArgs, CompareArgs, CompareDropsArgs, RunArgs};
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "rheosph",
+    version,
+    about = "Incompressible SPH for viscoelastic flows (King & Lind 2021)"
+)]
+pub struct Cli {
+    /// No progress bar or start-up report.
+    #[arg(short, long, global = true)]
+    pub quiet: bool,
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Run a case to its end time (or breakdown) and write a run directory.
+    Run(RunArgs),
+    /// Validate a case file and print its derived numbers without running it.
+    Check(CaseArgs),
+    /// Overlay the final profiles of several run directories, each with its analytic curve.
+    CompareProfiles(CompareArgs),
+    /// Overlay drop width W* and height H* against t* of several drop runs (their drop.csv).
+    CompareDrops(CompareDropsArgs),
+    /// Time each stage of the step side by side for several sizes of the Poiseuille scene.
+    Bench(BenchArgs),
+    /// Run many variants of a case: convergence, stability map, speed against accuracy.
+    #[command(subcommand)]
+    Study(StudyCommand),
+}
+
+/// Exit code for a run that broke down (a result, not a crash).
+pub const EXIT_BROKE_DOWN: u8 = 3;
+/// Exit code for bad input.
+pub const EXIT_BAD_INPUT: u8 = 2;
+
+/// Runs the parsed command line.
+pub fn main(cli: Cli) -> ExitCode {
+    match dispatch(cli) {
+        Ok(code) => code,
+        Err(e) => {
+            if let Some(ce) = e.downcast_ref::<CaseError>() {
+                eprintln!("error: {ce}");
+                ExitCode::from(EXIT_BAD_INPUT)
+            } else {
+                eprintln!("error: {e:#}");
+                ExitCode::FAILURE
+            }
+        }
+    }
+}
+
+fn dispatch(cli: Cli) -> anyhow::Result<ExitCode> {
+    match cli.command {
+        Command::Run(args) => {
+            let options = |out_dir: PathBuf| RunOptions {
+                out_dir,
+                quiet: cli.quiet,
+                charts: !args.no_charts,
+                snapshots: !args.no_snapshots,
+            };
+            let summary = match (&args.resume, &args.case) {
+                (Some(dir), _) => run::resume(&options(dir.clone()))?,
+                (None, Some(path)) => {
+                    let case = case::load(path, &args.set)?;
+                    let out_dir = args
+                        .out
+                        .clone()
+                        .unwrap_or_else(|| PathBuf::from("runs").join(&case.name));
+                    run::run(&case, &options(out_dir))?
+                }
+                (None, None) => anyhow::bail!("a case file or --resume DIR is required"),
+            };
+            Ok(match summary.outcome {
+                Outcome::Finished => ExitCode::SUCCESS,
+                Outcome::BrokeDown => ExitCode::from(EXIT_BROKE_DOWN),
+            })
+        }
+        Command::Study(study) => {
+            crate::app::study::cli::dispatch(study, cli.quiet)?;
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Bench(args) => {
+            crate::app::bench::run(&args.sizes, args.steps, args.lu_max, &args.out, cli.quiet)?;
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::CompareProfiles(args) => {
+            crate::app::compare::compare_profiles(
+                &args.runs,
+                args.field,
+                args.scale,
+                &args.title,
+                &args.out,
+            )?;
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::CompareDrops(args) => {
+            crate::app::compare::compare_drops(&args.runs, &args.labels, &args.title, &args.out)?;
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Check(args) => {
+            let case = case::load(&args.case, &args.set)?;
+            println!("{}: valid", args.case.display());
+            println!("{}", serde_json::to_string_pretty(&case.derived())?);
+            Ok(ExitCode::SUCCESS)
+        }
+    }
+}

@@ -1,0 +1,80 @@
+//! Wall conditions: what a wall imposes, through the values its mirror particles carry
+//! (King & Lind §III C). A mirror j of fluid particle i carries
+//!
+//! * the velocity `u_j = s u_i + b_j`: s = −1 and b = 0 for a wall at rest (no slip: the
+//!   velocity vanishes on the wall to second order); a moving wall adds its own part b;
+//! * the pressure `p_j = s_p p_i`: s_p = +1, a homogeneous Neumann condition (in the PPE the
+//!   mirror's unknown *is* its parent's);
+//! * a tensor (conformation, stress) mapped from its parent's.
+//!
+//! The linear factors s, s_p fold mirrors into their parents' columns of the implicit
+//! matrices ([`crate::engine::laplacian_matrix`]); the operators read the same values from
+//! [`super::Ghosts`]' extensions. A condition is a type implementing [`WallCondition`]; a
+//! [`super::Wall`] is a shape with a condition.
+
+use crate::engine::math::{Mat2, Sym2, Vec2};
+use serde::{Deserialize, Serialize};
+use std::fmt;
+
+/// What a wall imposes on the values of its mirrors.
+pub trait WallCondition: fmt::Debug + Send + Sync {
+    /// s of `u_j = s u_i + b_j`.
+    fn velocity_sign(&self) -> f64;
+    /// b_j at a mirror point (zero for a wall at rest).
+    fn velocity_offset(&self, _mirror: Vec2) -> Vec2 {
+        Vec2::zeros()
+    }
+    /// Whether b is not zero anywhere (so that it must be added at all).
+    fn moves(&self) -> bool {
+        false
+    }
+    /// s_p of `p_j = s_p p_i`.
+    fn pressure_sign(&self) -> f64 {
+        1.0
+    }
+    /// The mirror's tensor from its parent's; `normal` is the wall normal between them.
+    fn tensor(&self, parent: &Sym2, normal: &Vec2) -> Sym2;
+}
+
+/// How a tensor is carried onto a no-slip wall's mirror particle.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum TensorMirror {
+    /// `A_j = A_i`: even across a no-slip wall (the default; see [`NoSlip`]).
+    #[default]
+    Even,
+    /// `A_j = P A_i P` with P = I − 2nnᵀ the reflection across the surface: the shear
+    /// component odd across the wall (free-slip-like).
+    Reflected,
+}
+
+/// A no-slip wall at rest: `u_j = −u_i`, `p_j = p_i`, and the conformation even across the
+/// wall (`A_j = A_i`) or reflected.
+///
+/// Why even: the mirrored velocity `u_m(x, −y) = −u(x, y)` has wall-normal gradient
+/// `∂u_m/∂y = +∂u/∂y`, so the shear rate, which drives the polymer stress, is even across a
+/// no-slip wall, and its evolution `Ȧ = ∇u·A + A·∇uᵀ − f_R/λ` evaluated with the mirrored
+/// gradient agrees with the parent's up to terms (∂u/∂x, ∂v/∂x) that vanish on the wall. The
+/// odd, reflection-symmetric choice `P A P` (the free-slip one) would force τ_xy = 0 at the
+/// wall, where for Poiseuille flow it is largest. `tests/wall_stress.rs` measures both
+/// against the analytic wall shear stress.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct NoSlip {
+    pub tensor: TensorMirror,
+}
+
+impl WallCondition for NoSlip {
+    fn velocity_sign(&self) -> f64 {
+        -1.0
+    }
+
+    fn tensor(&self, parent: &Sym2, normal: &Vec2) -> Sym2 {
+        match self.tensor {
+            TensorMirror::Even => *parent,
+            TensorMirror::Reflected => {
+                let reflection = Mat2::identity() - 2.0 * normal * normal.transpose();
+                parent.congruence(&reflection)
+            }
+        }
+    }
+}

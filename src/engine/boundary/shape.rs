@@ -1,0 +1,114 @@
+//! The shapes of solid surfaces: planes and circles, with the geometry the mirror
+//! construction needs (signed distance, reflection, the mirrored volume ratio, the normal).
+
+use crate::engine::math::Vec2;
+
+/// A straight wall normal to `axis` at `position`, the fluid on the side `fluid_side` (+1: the
+/// fluid occupies coordinates above `position`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Plane {
+    pub axis: usize,
+    pub position: f64,
+    pub fluid_side: f64,
+}
+
+impl Plane {
+    /// The wall y = 0 with the fluid above: a channel's bottom wall, a drop's or a jet's
+    /// plate.
+    pub fn floor() -> Self {
+        Plane {
+            axis: 1,
+            position: 0.0,
+            fluid_side: 1.0,
+        }
+    }
+
+    /// Signed distance of `p` from the wall, positive in the fluid.
+    pub fn distance(&self, p: &Vec2) -> f64 {
+        (p[self.axis] - self.position) * self.fluid_side
+    }
+
+    /// Mirror image of `p` across the wall.
+    pub fn reflect(&self, p: &Vec2) -> Vec2 {
+        let mut q = *p;
+        q[self.axis] = 2.0 * self.position - p[self.axis];
+        q
+    }
+}
+
+/// A solid circular cylinder (at rest) of `radius` about `centre`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Circle {
+    pub centre: Vec2,
+    pub radius: f64,
+}
+
+impl Circle {
+    /// Distance of `p` from the surface, positive in the fluid.
+    pub fn distance(&self, p: &Vec2) -> f64 {
+        (p - self.centre).norm() - self.radius
+    }
+
+    /// Mirror image of `p` across the surface along the radius: a particle at distance d
+    /// outside lands at distance d inside, so r_ij is normal to, and bisected by, the surface.
+    pub fn reflect(&self, p: &Vec2) -> Vec2 {
+        let r = p - self.centre;
+        let rho = r.norm();
+        self.centre + r * ((2.0 * self.radius - rho) / rho)
+    }
+
+    /// Area of the mirrored ring element over the original's, (R − d)/(R + d): mirrors are
+    /// packed closer inside a convex surface, so each carries less volume.
+    pub fn volume_ratio(&self, p: &Vec2) -> f64 {
+        let d = self.distance(p);
+        (self.radius - d) / (self.radius + d)
+    }
+
+    /// Outward unit normal at the surface point nearest `p`.
+    pub fn normal(&self, p: &Vec2) -> Vec2 {
+        (p - self.centre).normalize()
+    }
+}
+
+/// The shape of a solid surface that creates mirror particles.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Shape {
+    Plane(Plane),
+    Circle(Circle),
+}
+
+impl Shape {
+    pub fn distance(&self, p: &Vec2) -> f64 {
+        match self {
+            Shape::Plane(w) => w.distance(p),
+            Shape::Circle(c) => c.distance(p),
+        }
+    }
+
+    pub fn reflect(&self, p: &Vec2) -> Vec2 {
+        match self {
+            Shape::Plane(w) => w.reflect(p),
+            Shape::Circle(c) => c.reflect(p),
+        }
+    }
+
+    /// Volume of a mirror relative to its parent's (1 for a plane).
+    pub fn volume_ratio(&self, p: &Vec2) -> f64 {
+        match self {
+            Shape::Plane(_) => 1.0,
+            Shape::Circle(c) => c.volume_ratio(p),
+        }
+    }
+
+    /// Unit normal of the surface near `p` (sign irrelevant for reflections).
+    pub fn normal(&self, p: &Vec2) -> Vec2 {
+        match self {
+            Shape::Plane(w) => {
+                let mut n = Vec2::zeros();
+                n[w.axis] = 1.0;
+                n
+            }
+            Shape::Circle(c) => c.normal(p),
+        }
+    }
+}
