@@ -1,7 +1,9 @@
 //! The periodic channel (King & Lind §IV A–B): no-slip walls at y = 0 and y = H, periodic in
 //! x, driven by a body force along x; with a cylinder, the periodic cylinder array.
 
-use super::{check_box, check_memory, check_periodic_length, finite_force, support_in_dr, Scene};
+use super::{
+    check_box, check_memory, check_periodic_length, finite_force, support_in_dr, Scene, SceneBox,
+};
 use crate::analysis::diagnostics::centre_line_velocity;
 use crate::analysis::reference::Reference;
 use crate::engine::boundary::{Circle, Plane, Shape, Wall};
@@ -47,9 +49,7 @@ pub struct CylinderSpec {
 /// A validated channel.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Channel {
-    pub length: f64,
-    pub height: f64,
-    pub resolution: usize,
+    pub bounds: SceneBox,
     columns: usize,
     /// g = (g_x, 0).
     pub body_force: Vec2,
@@ -94,9 +94,11 @@ impl ChannelSpec {
             Some(cy) => Some(cy.validate(self.length, self.height, self.resolution)?),
         };
         Ok(Channel {
-            length: self.length,
-            height: self.height,
-            resolution: self.resolution,
+            bounds: SceneBox {
+                length: self.length,
+                height: self.height,
+                resolution: self.resolution,
+            },
             columns,
             body_force,
             velocity,
@@ -158,7 +160,7 @@ impl Channel {
     }
 
     fn positions(&self) -> Vec<Vec2> {
-        lattice(self.columns, self.resolution, self.spacing())
+        lattice(self.columns, self.bounds.resolution, self.spacing())
             .into_iter()
             .filter(|p| self.is_fluid(p))
             .collect()
@@ -170,21 +172,13 @@ impl Scene for Channel {
         "channel"
     }
 
-    fn length(&self) -> f64 {
-        self.length
-    }
-
-    fn height(&self) -> f64 {
-        self.height
-    }
-
-    fn resolution(&self) -> usize {
-        self.resolution
+    fn bounds(&self) -> SceneBox {
+        self.bounds
     }
 
     /// The cylinder radius R with a cylinder (Wi = ⟨u⟩λ/R), else the height.
     fn length_scale(&self) -> f64 {
-        self.cylinder.map_or(self.height, |c| c.radius)
+        self.cylinder.map_or(self.bounds.height, |c| c.radius)
     }
 
     /// The nominal mean velocity with a cylinder; else the Oldroyd-B steady centre-line
@@ -193,7 +187,7 @@ impl Scene for Channel {
         match self.cylinder {
             Some(_) => self.velocity,
             None => {
-                f.density * self.body_force.x.abs() * self.height * self.height
+                f.density * self.body_force.x.abs() * self.bounds.height * self.bounds.height
                     / (8.0 * f.viscosity)
             }
         }
@@ -205,7 +199,7 @@ impl Scene for Channel {
 
     fn particles(&self) -> usize {
         match self.cylinder {
-            None => self.columns * self.resolution,
+            None => self.columns * self.bounds.resolution,
             Some(_) => self.positions().len(),
         }
     }
@@ -217,7 +211,7 @@ impl Scene for Channel {
             wall(Shape::Plane(Plane::floor())),
             wall(Shape::Plane(Plane {
                 axis: 1,
-                position: self.height,
+                position: self.bounds.height,
                 fluid_side: -1.0,
             })),
         ];
@@ -225,7 +219,7 @@ impl Scene for Channel {
         Setup {
             domain: Domain {
                 min: Vec2::zeros(),
-                max: Vec2::new(self.length, self.height),
+                max: Vec2::new(self.bounds.length, self.bounds.height),
                 periodic: [true, false],
             },
             walls,
@@ -248,14 +242,19 @@ impl Scene for Channel {
         Reference::channel(
             fluid,
             self.body_force.x,
-            self.height,
+            self.bounds.height,
             self.velocity_scale(fluid),
         )
     }
 
     /// The centre-line velocity: a quadratic fit through the particles near y = H/2.
     fn characteristic_velocity(&self, positions: &[Vec2], velocity: &[Vec2]) -> f64 {
-        centre_line_velocity(positions, velocity, 0.5 * self.height, self.spacing())
+        centre_line_velocity(
+            positions,
+            velocity,
+            0.5 * self.bounds.height,
+            self.spacing(),
+        )
     }
 
     fn characteristic_name(&self) -> (&'static str, &'static str) {

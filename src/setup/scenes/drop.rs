@@ -2,17 +2,17 @@
 //! particles at (0, −U) above the plate y = 0, in an open box x ∈ [−length/2, length/2],
 //! y ∈ [0, height] that particles must stay in (leaving it is a breakdown).
 
-use super::{check_box, check_memory, finite_force, support_in_dr, DropShape, Scene};
+use super::{
+    centre_of_mass_velocity, open_domain, open_scene, plate, support_in_dr, DropShape, Scene,
+    SceneBox,
+};
 use crate::analysis::reference::Reference;
-use crate::engine::boundary::{Plane, Shape, Wall};
 use crate::engine::lattice::disc;
 use crate::engine::math::Vec2;
-use crate::engine::neighbours::Domain;
-use crate::engine::reduce::blocked_sum;
 use crate::engine::rheology::Fluid;
 use crate::engine::scheme::Scheme;
 use crate::engine::step::{Scales, Setup};
-use crate::setup::error::{field_err, in_range, positive, FieldError};
+use crate::setup::error::{field_err, positive, FieldError};
 use serde::{Deserialize, Serialize};
 
 /// `[scene]` of `kind = "drop"`: `resolution` is W/δr, `velocity` the impact speed U,
@@ -45,9 +45,7 @@ pub struct DropTable {
 /// A validated drop scene.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Drop {
-    pub length: f64,
-    pub height: f64,
-    pub resolution: usize,
+    pub bounds: SceneBox,
     pub body_force: Vec2,
     pub shape: DropShape,
 }
@@ -55,16 +53,12 @@ pub struct Drop {
 impl DropSpec {
     pub fn validate(&self) -> Result<Drop, FieldError> {
         let (length, height, resolution) = (self.length, self.height, self.resolution);
-        check_box(length, height, resolution)?;
-        check_memory(0.25 * std::f64::consts::PI * (resolution as f64).powi(2))?;
-        let body_force = finite_force(self.body_force.unwrap_or([0.0, 0.0]))?;
-        let u = self.velocity.ok_or_else(|| {
-            field_err(
-                "scene.velocity",
-                "required for a drop (the impact speed U) or a jet (the inflow speed U0)",
-            )
-        })?;
-        let speed = in_range("scene.velocity", u, 0.0, f64::MAX)?;
+        let bounds = SceneBox {
+            length,
+            height,
+            resolution,
+        };
+        let (body_force, speed) = open_scene(bounds, self.body_force, self.velocity)?;
         let d = self.drop.as_ref().ok_or_else(|| {
             field_err(
                 "scene.drop",
@@ -89,9 +83,11 @@ impl DropSpec {
             ));
         }
         Ok(Drop {
-            length,
-            height,
-            resolution,
+            bounds: SceneBox {
+                length,
+                height,
+                resolution,
+            },
             body_force,
             shape: DropShape {
                 centre: Vec2::new(0.0, centre_height),
@@ -107,21 +103,13 @@ impl Scene for Drop {
         "drop"
     }
 
-    fn length(&self) -> f64 {
-        self.length
-    }
-
-    fn height(&self) -> f64 {
-        self.height
-    }
-
-    fn resolution(&self) -> usize {
-        self.resolution
+    fn bounds(&self) -> SceneBox {
+        self.bounds
     }
 
     /// δr = W/resolution.
     fn spacing(&self) -> f64 {
-        self.shape.diameter / self.resolution as f64
+        self.shape.diameter / self.bounds.resolution as f64
     }
 
     /// The diameter W (Re = ρUW/η0, De = λU/W).
@@ -148,15 +136,8 @@ impl Scene for Drop {
     fn build(&self, fluid: &Fluid, scheme: &Scheme, scales: Scales) -> Setup {
         let positions = self.positions();
         Setup {
-            domain: Domain {
-                min: Vec2::new(-0.5 * self.length, 0.0),
-                max: Vec2::new(0.5 * self.length, self.height),
-                periodic: [false, false],
-            },
-            walls: vec![Wall::no_slip(
-                Shape::Plane(Plane::floor()),
-                scheme.wall_conformation,
-            )],
+            domain: open_domain(self.bounds.length, self.bounds.height),
+            walls: vec![plate(scheme)],
             velocity: vec![Vec2::new(0.0, -self.shape.speed); positions.len()],
             positions,
             spacing: self.spacing(),
@@ -175,7 +156,7 @@ impl Scene for Drop {
 
     /// The centre-of-mass vertical velocity.
     fn characteristic_velocity(&self, _positions: &[Vec2], velocity: &[Vec2]) -> f64 {
-        blocked_sum(velocity.len(), |i| velocity[i].y) / velocity.len() as f64
+        centre_of_mass_velocity(velocity)
     }
 
     fn characteristic_name(&self) -> (&'static str, &'static str) {

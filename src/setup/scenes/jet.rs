@@ -2,17 +2,17 @@
 //! D centred on x = 0 at `orifice_height` above the plate y = 0, fed downwards at U0 through
 //! an inflow buffer, in an open box x ∈ [−length/2, length/2], y ∈ [0, height].
 
-use super::{check_box, check_memory, finite_force, support_in_dr, JetShape, Scene};
+use super::{
+    centre_of_mass_velocity, open_domain, open_scene, plate, support_in_dr, JetShape, Scene,
+    SceneBox,
+};
 use crate::analysis::reference::Reference;
 use crate::engine::boundary::inflow::{Inflow, BUFFER_ROWS};
-use crate::engine::boundary::{Plane, Shape, Wall};
 use crate::engine::math::Vec2;
-use crate::engine::neighbours::Domain;
-use crate::engine::reduce::blocked_sum;
 use crate::engine::rheology::Fluid;
 use crate::engine::scheme::Scheme;
 use crate::engine::step::{Scales, Setup};
-use crate::setup::error::{field_err, in_range, positive, FieldError};
+use crate::setup::error::{field_err, positive, FieldError};
 use serde::{Deserialize, Serialize};
 
 /// `[scene]` of `kind = "jet"`: `resolution` is D/δr, `velocity` the inflow speed U0,
@@ -43,9 +43,7 @@ pub struct JetTable {
 /// A validated jet scene.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Jet {
-    pub length: f64,
-    pub height: f64,
-    pub resolution: usize,
+    pub bounds: SceneBox,
     pub body_force: Vec2,
     /// U0.
     pub speed: f64,
@@ -55,16 +53,12 @@ pub struct Jet {
 impl JetSpec {
     pub fn validate(&self) -> Result<Jet, FieldError> {
         let (length, height, resolution) = (self.length, self.height, self.resolution);
-        check_box(length, height, resolution)?;
-        check_memory(0.25 * std::f64::consts::PI * (resolution as f64).powi(2))?;
-        let body_force = finite_force(self.body_force.unwrap_or([0.0, 0.0]))?;
-        let u = self.velocity.ok_or_else(|| {
-            field_err(
-                "scene.velocity",
-                "required for a drop (the impact speed U) or a jet (the inflow speed U0)",
-            )
-        })?;
-        let speed = in_range("scene.velocity", u, 0.0, f64::MAX)?;
+        let bounds = SceneBox {
+            length,
+            height,
+            resolution,
+        };
+        let (body_force, speed) = open_scene(bounds, self.body_force, self.velocity)?;
         let j = self.jet.as_ref().ok_or_else(|| {
             field_err(
                 "scene.jet",
@@ -94,9 +88,11 @@ impl JetSpec {
             ));
         }
         Ok(Jet {
-            length,
-            height,
-            resolution,
+            bounds: SceneBox {
+                length,
+                height,
+                resolution,
+            },
             body_force,
             speed,
             shape: JetShape {
@@ -112,21 +108,13 @@ impl Scene for Jet {
         "jet"
     }
 
-    fn length(&self) -> f64 {
-        self.length
-    }
-
-    fn height(&self) -> f64 {
-        self.height
-    }
-
-    fn resolution(&self) -> usize {
-        self.resolution
+    fn bounds(&self) -> SceneBox {
+        self.bounds
     }
 
     /// δr = D/resolution.
     fn spacing(&self) -> f64 {
-        self.shape.width / self.resolution as f64
+        self.shape.width / self.bounds.resolution as f64
     }
 
     /// The width D (Wi = λU0/D).
@@ -144,7 +132,7 @@ impl Scene for Jet {
 
     /// The initial inflow buffer (it grows as the jet runs).
     fn particles(&self) -> usize {
-        self.resolution * BUFFER_ROWS
+        self.bounds.resolution * BUFFER_ROWS
     }
 
     fn has_free_surface(&self) -> bool {
@@ -156,15 +144,8 @@ impl Scene for Jet {
         let (inflow, positions) =
             Inflow::new(0.0, s.width, s.orifice_height, self.speed, self.spacing());
         Setup {
-            domain: Domain {
-                min: Vec2::new(-0.5 * self.length, 0.0),
-                max: Vec2::new(0.5 * self.length, self.height),
-                periodic: [false, false],
-            },
-            walls: vec![Wall::no_slip(
-                Shape::Plane(Plane::floor()),
-                scheme.wall_conformation,
-            )],
+            domain: open_domain(self.bounds.length, self.bounds.height),
+            walls: vec![plate(scheme)],
             velocity: vec![Vec2::new(0.0, -self.speed); positions.len()],
             positions,
             spacing: self.spacing(),
@@ -183,7 +164,7 @@ impl Scene for Jet {
 
     /// The centre-of-mass vertical velocity.
     fn characteristic_velocity(&self, _positions: &[Vec2], velocity: &[Vec2]) -> f64 {
-        blocked_sum(velocity.len(), |i| velocity[i].y) / velocity.len() as f64
+        centre_of_mass_velocity(velocity)
     }
 
     fn characteristic_name(&self) -> (&'static str, &'static str) {

@@ -12,13 +12,15 @@ pub mod jet;
 pub mod taylor_green;
 
 use crate::analysis::reference::Reference;
-use crate::engine::boundary::Circle;
+use crate::engine::boundary::{Circle, Plane, Shape, Wall};
 use crate::engine::kernel::{H_OVER_DR, SUPPORT_OVER_H};
 use crate::engine::math::Vec2;
+use crate::engine::neighbours::Domain;
+use crate::engine::reduce::blocked_sum;
 use crate::engine::rheology::Fluid;
 use crate::engine::scheme::Scheme;
 use crate::engine::step::{Scales, Setup};
-use crate::setup::error::{field_err, positive, read_table, FieldError};
+use crate::setup::error::{field_err, in_range, positive, read_table, FieldError};
 use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::sync::Arc;
@@ -96,15 +98,30 @@ pub struct JetShape {
     pub orifice_height: f64,
 }
 
+/// The box of a scene as written: x ∈ [0, length] (or [−length/2, length/2] for an open
+/// scene), y ∈ [0, height], and the particles across the scene's resolved length (see
+/// [`Scene::spacing`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SceneBox {
+    pub length: f64,
+    pub height: f64,
+    pub resolution: usize,
+}
+
 /// A validated scene.
 pub trait Scene: fmt::Debug + Send + Sync {
     /// The `kind` naming it in case files.
     fn kind(&self) -> &'static str;
-    /// The box: x ∈ [0, length] (or [−length/2, length/2] for an open scene), y ∈ [0, height].
-    fn length(&self) -> f64;
-    fn height(&self) -> f64;
-    /// Particles across the scene's resolved length (see [`Self::spacing`]).
-    fn resolution(&self) -> usize;
+    fn bounds(&self) -> SceneBox;
+    fn length(&self) -> f64 {
+        self.bounds().length
+    }
+    fn height(&self) -> f64 {
+        self.bounds().height
+    }
+    fn resolution(&self) -> usize {
+        self.bounds().resolution
+    }
     /// δr.
     fn spacing(&self) -> f64 {
         self.height() / self.resolution() as f64
@@ -215,6 +232,49 @@ pub(crate) fn check_memory(particles: f64) -> Result<(), FieldError> {
         ));
     }
     Ok(())
+}
+
+/// The common checks and drive of an open scene (a drop or a jet): the box, gravity
+/// (`scene.body_force`, default none) and the speed `scene.velocity` (≥ 0).
+pub(crate) fn open_scene(
+    bounds: SceneBox,
+    body_force: Option<[f64; 2]>,
+    velocity: Option<f64>,
+) -> Result<(Vec2, f64), FieldError> {
+    let SceneBox {
+        length,
+        height,
+        resolution,
+    } = bounds;
+    check_box(length, height, resolution)?;
+    check_memory(0.25 * std::f64::consts::PI * (resolution as f64).powi(2))?;
+    let g = finite_force(body_force.unwrap_or([0.0, 0.0]))?;
+    let u = velocity.ok_or_else(|| {
+        field_err(
+            "scene.velocity",
+            "required for a drop (the impact speed U) or a jet (the inflow speed U0)",
+        )
+    })?;
+    Ok((g, in_range("scene.velocity", u, 0.0, f64::MAX)?))
+}
+
+/// The open box of a drop or a jet, x ∈ [−length/2, length/2], y ∈ [0, height].
+pub(crate) fn open_domain(length: f64, height: f64) -> Domain {
+    Domain {
+        min: Vec2::new(-0.5 * length, 0.0),
+        max: Vec2::new(0.5 * length, height),
+        periodic: [false, false],
+    }
+}
+
+/// The no-slip plate y = 0 under a drop or a jet.
+pub(crate) fn plate(scheme: &Scheme) -> Wall {
+    Wall::no_slip(Shape::Plane(Plane::floor()), scheme.wall_conformation)
+}
+
+/// The centre-of-mass vertical velocity (the characteristic velocity of open scenes).
+pub(crate) fn centre_of_mass_velocity(velocity: &[Vec2]) -> f64 {
+    blocked_sum(velocity.len(), |i| velocity[i].y) / velocity.len() as f64
 }
 
 /// The body force of a scene that must be finite.

@@ -1,7 +1,7 @@
 //! The Taylor–Green vortex: a doubly periodic square box, no walls, decaying freely from
 //! u = U(−cos kx sin ky, sin kx cos ky), k = 2π/L.
 
-use super::{check_box, check_memory, check_periodic_length, Scene};
+use super::{check_box, check_memory, check_periodic_length, Scene, SceneBox};
 use crate::analysis::analytic::taylor_green;
 use crate::analysis::reference::Reference;
 use crate::engine::lattice::lattice;
@@ -32,10 +32,7 @@ pub struct TaylorGreenSpec {
 /// A validated Taylor–Green box.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TaylorGreen {
-    pub length: f64,
-    /// Equal to the length (to 1e-12, as given).
-    pub height: f64,
-    pub resolution: usize,
+    pub bounds: SceneBox,
     columns: usize,
     /// The initial amplitude U.
     pub velocity: f64,
@@ -62,9 +59,11 @@ impl TaylorGreenSpec {
             .velocity
             .ok_or_else(|| field_err("scene.velocity", "required for taylor-green"))?;
         Ok(TaylorGreen {
-            length: self.length,
-            height: self.height,
-            resolution: self.resolution,
+            bounds: SceneBox {
+                length: self.length,
+                height: self.height,
+                resolution: self.resolution,
+            },
             columns,
             velocity: positive("scene.velocity", u0)?,
         })
@@ -76,16 +75,8 @@ impl Scene for TaylorGreen {
         "taylor-green"
     }
 
-    fn length(&self) -> f64 {
-        self.length
-    }
-
-    fn height(&self) -> f64 {
-        self.height
-    }
-
-    fn resolution(&self) -> usize {
-        self.resolution
+    fn bounds(&self) -> SceneBox {
+        self.bounds
     }
 
     fn velocity_scale(&self, _fluid: &Fluid) -> f64 {
@@ -97,19 +88,19 @@ impl Scene for TaylorGreen {
     }
 
     fn particles(&self) -> usize {
-        self.columns * self.resolution
+        self.columns * self.bounds.resolution
     }
 
     fn build(&self, fluid: &Fluid, scheme: &Scheme, scales: Scales) -> Setup {
-        let positions = lattice(self.columns, self.resolution, self.spacing());
+        let positions = lattice(self.columns, self.bounds.resolution, self.spacing());
         let velocity = positions
             .iter()
-            .map(|p| taylor_green::velocity(p, self.length, self.velocity))
+            .map(|p| taylor_green::velocity(p, self.bounds.length, self.velocity))
             .collect();
         Setup {
             domain: Domain {
                 min: Vec2::zeros(),
-                max: Vec2::new(self.length, self.height),
+                max: Vec2::new(self.bounds.length, self.bounds.height),
                 periodic: [true, true],
             },
             walls: Vec::new(),
@@ -126,12 +117,12 @@ impl Scene for TaylorGreen {
     }
 
     fn reference(&self, fluid: &Fluid) -> Result<Reference, String> {
-        Reference::taylor_green(fluid, self.length, self.velocity)
+        Reference::taylor_green(fluid, self.bounds.length, self.velocity)
     }
 
     /// The amplitude: the projection 2 mean(u·û) on the unit-amplitude mode û.
     fn characteristic_velocity(&self, positions: &[Vec2], velocity: &[Vec2]) -> f64 {
-        taylor_green::amplitude(positions, velocity, self.length)
+        taylor_green::amplitude(positions, velocity, self.bounds.length)
     }
 
     fn characteristic_name(&self) -> (&'static str, &'static str) {
