@@ -91,6 +91,11 @@ impl Sym2 {
         }
     }
 
+    /// The largest eigenvalue, `mean + radius` (no trigonometry).
+    pub fn max_eigenvalue(&self) -> f64 {
+        0.5 * (self.xx + self.yy) + (0.5 * (self.xx - self.yy)).hypot(self.xy)
+    }
+
     /// Applies a scalar function to the eigenvalues: `R f(Λ) Rᵀ`.
     pub fn map_eigenvalues(&self, f: impl Fn(f64) -> f64) -> Self {
         let e = self.eigen();

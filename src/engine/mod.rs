@@ -8,6 +8,7 @@ pub mod boundary;
 pub mod frame;
 pub mod free_surface;
 pub mod kernel;
+pub mod kinematics;
 pub mod laplacian_matrix;
 pub mod lattice;
 pub mod math;

@@ -5,6 +5,7 @@
 use crate::engine::boundary::TensorMirror;
 use crate::engine::frame::Frame;
 use crate::engine::free_surface::SurfacePressure;
+use crate::engine::kinematics::ConstitutiveGradient;
 use crate::engine::projection::Projection;
 use crate::engine::rheology::ConformationScheme;
 use crate::engine::viscosity::Viscosity;
@@ -15,6 +16,8 @@ use serde::{Deserialize, Serialize};
 pub struct Scheme {
     pub frame: Frame,
     pub conformation: ConformationScheme,
+    /// The velocity gradient the constitutive update sees.
+    pub constitutive_gradient: ConstitutiveGradient,
     /// Fickian shifting in the Lagrangian frame.
     pub shifting: bool,
     /// α_V of the EVSS splitting, eqs. (6)–(8).
@@ -32,6 +35,18 @@ pub struct Scheme {
     pub free_surface_pressure: SurfacePressure,
     /// Free surfaces: the repulsive term of (42)–(44) in the shifting of internal particles.
     pub surface_repulsion: bool,
+}
+
+impl Scheme {
+    /// ν of the viscous term of the predictor: (β + α_V)η0/ρ (η0/ρ for a Newtonian fluid),
+    /// the ν the implicit solve uses.
+    pub fn viscosity_nu(&self, fluid: &crate::engine::rheology::Fluid) -> f64 {
+        if fluid.model.is_viscoelastic() {
+            (fluid.beta + self.evss_alpha) * fluid.viscosity / fluid.density
+        } else {
+            fluid.viscosity / fluid.density
+        }
+    }
 }
 
 /// How the PPE (25) is solved.

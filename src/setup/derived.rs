@@ -2,7 +2,7 @@
 //! every summary.
 
 use crate::engine::kernel::H_OVER_DR;
-use crate::engine::viscosity::{advective_limit, elastic_limit, viscous_limit};
+use crate::engine::viscosity::{advective_limit, elastic_limit, viscous_limit, DtInputs};
 use crate::setup::scenes::BYTES_PER_PARTICLE;
 use crate::setup::validate::Case;
 use serde::Serialize;
@@ -22,7 +22,8 @@ pub struct Derived {
     pub elasticity: f64,
     pub beta: f64,
     /// δt limits with the factor 0.2: viscous 0.2ρh²/η0 (explicit viscosity only, (28)),
-    /// advective 0.2h/U, elastic 0.2h/c with c = √(η_p/(ρλ)) the shear-wave speed.
+    /// advective 0.2h/U, elastic C·h/c of the fluid at rest (c = √(η_p/(ρλ)) the shear-wave
+    /// speed; it falls as the polymer stretches, see `engine::viscosity::elastic_limit`).
     pub dt_viscous: f64,
     pub dt_advective_at_u: f64,
     pub dt_elastic: f64,
@@ -44,7 +45,14 @@ impl Case {
         let re = f.density * u * length / f.viscosity;
         let wi = f.relaxation_time * u / length;
         let factor = self.scheme.dt_factor;
-        let limit = self.scheme.viscosity.dt_limit(f, h, u, u);
+        let nu = self.scheme.viscosity_nu(f);
+        let inputs = DtInputs {
+            h,
+            max_speed: u,
+            velocity_scale: u,
+            max_polymer_stress: 0.0,
+        };
+        let limit = self.scheme.viscosity.dt_limit(f, nu, &inputs);
         Derived {
             particle_spacing: dr,
             smoothing_length: h,
@@ -56,7 +64,7 @@ impl Case {
             beta: f.beta,
             dt_viscous: factor * viscous_limit(f, h),
             dt_advective_at_u: factor * advective_limit(h, u),
-            dt_elastic: factor * elastic_limit(f, h),
+            dt_elastic: factor * elastic_limit(f, h, 0.0, nu),
             estimated_steps: self.end_time / (factor * limit),
             estimated_memory_bytes: c.particles() as f64 * BYTES_PER_PARTICLE,
         }

@@ -123,11 +123,26 @@ pub enum ProjectionChoice {
     Incremental,
 }
 
+/// The velocity gradient of the constitutive update (see
+/// [`crate::engine::kinematics::ConstitutiveGradient`]).
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum GradientChoice {
+    /// `solenoidal` in closed domains, `wall-normal-even` with free surfaces.
+    Auto,
+    Raw,
+    WallNormalEven,
+    Solenoidal,
+}
+
 #[derive(Clone, Debug, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SchemeSpec {
     pub frame: Frame,
     pub conformation: ConformationScheme,
+    /// The velocity gradient of the constitutive update: `auto`, `solenoidal`,
+    /// `wall-normal-even` or `raw` (see `engine::kinematics`).
+    pub constitutive_gradient: GradientChoice,
     pub shifting: bool,
     /// α_V of the EVSS splitting, eqs. (6)–(8).
     pub evss_alpha: f64,
@@ -164,6 +179,7 @@ impl Default for SchemeSpec {
         Self {
             frame: Frame::Lagrangian,
             conformation: ConformationScheme::Log,
+            constitutive_gradient: GradientChoice::Auto,
             shifting: true,
             evss_alpha: 0.0,
             dt_factor: 0.2,

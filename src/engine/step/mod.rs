@@ -24,7 +24,8 @@ use crate::engine::boundary::inflow::Inflow;
 use crate::engine::boundary::{Ghosts, Wall};
 use crate::engine::free_surface::{FreeSurface, FreeSurfaceStage};
 use crate::engine::kernel::QuinticSpline;
-use crate::engine::math::{Mat2, Sym2, Vec2};
+use crate::engine::kinematics::Kinematics;
+use crate::engine::math::{Sym2, Vec2};
 use crate::engine::neighbourhood::Neighbourhood;
 use crate::engine::neighbours::Domain;
 use crate::engine::operators::DivergenceForm;
@@ -36,7 +37,7 @@ use crate::engine::rheology::{ConformationStage, Fluid};
 use crate::engine::scheme::Scheme;
 use crate::engine::shifting::{ShiftInputs, ShiftRule, Shifting};
 use crate::engine::timing::{Stage, StageSeconds};
-use crate::engine::viscosity::ViscousStage;
+use crate::engine::viscosity::{DtInputs, ViscousStage};
 use rayon::prelude::*;
 
 /// Everything needed to start a simulation.
@@ -65,9 +66,8 @@ struct Stages {
     reordering: Reordering,
     /// Step 1's r* (fluid), then step 2's mirrors, lists and kernel sums.
     hood: Neighbourhood,
-    /// u^n extended to the ghosts, and ∇u^n.
-    velocity_ext: Vec<Vec2>,
-    grad_u: Vec<Mat2>,
+    /// u^n extended to the ghosts, ∇u^n and the constitutive gradient.
+    kinematics: Kinematics,
     shifting: Shifting,
     free_surface: Option<FreeSurfaceStage>,
     conformation: Option<ConformationStage>,
@@ -115,8 +115,7 @@ impl Simulation {
         let stages = Stages {
             reordering: Reordering::new(scheme.reorder, scheme.frame.moves_particles()),
             hood: Neighbourhood::new(ghosts),
-            velocity_ext: Vec::new(),
-            grad_u: Vec::new(),
+            kinematics: Kinematics::new(scheme.constitutive_gradient),
             shifting: Shifting::new(ShiftRule::new(
                 scheme.frame,
                 scheme.shifting,
@@ -130,11 +129,7 @@ impl Simulation {
                 ConformationStage::new(scheme.conformation, &fluid, scheme.evss_alpha, form)
             }),
             viscous: scheme.viscosity.stage(),
-            nu: if viscoelastic {
-                (fluid.beta + scheme.evss_alpha) * fluid.viscosity / fluid.density
-            } else {
-                fluid.viscosity / fluid.density
-            },
+            nu: scheme.viscosity_nu(&fluid),
             velocity_star: Vec::new(),
             projection: ProjectionStage::new(scheme.projection),
             pressure: PressureStage::new(scheme.ppe, scheme.frame),
@@ -172,20 +167,32 @@ impl Simulation {
     }
 
     /// The time step: `dt_factor` times the limit of the viscosity scheme
-    /// ([`Viscosity::dt_limit`](crate::engine::viscosity::Viscosity::dt_limit)), eq. (28) for explicit viscosity.
+    /// ([`Viscosity::dt_limit`](crate::engine::viscosity::Viscosity::dt_limit)): eq. (28)
+    /// for explicit viscosity, the advective limit for implicit, and in both the elastic limit
+    /// of the stretched polymer.
     pub fn stable_dt(&self) -> f64 {
-        let max_speed = self
-            .state
+        let s = &self.state;
+        let max_speed = s
             .velocity
             .par_iter()
             .map(|u| u.norm())
             .reduce(|| 0.0, f64::max);
-        let limit = self.scheme.viscosity.dt_limit(
-            &self.fluid,
-            self.kernel.h(),
+        let fluid = &self.fluid;
+        let max_polymer_stress = s
+            .conformation
+            .par_iter()
+            .map(|a| fluid.polymer_stress(a).max_eigenvalue())
+            .reduce(|| 0.0, f64::max);
+        let inputs = DtInputs {
+            h: self.kernel.h(),
             max_speed,
-            self.scales.velocity,
-        );
+            velocity_scale: self.scales.velocity,
+            max_polymer_stress,
+        };
+        let limit = self
+            .scheme
+            .viscosity
+            .dt_limit(fluid, self.stages.nu, &inputs);
         self.scheme.dt_factor * limit
     }
 
@@ -216,7 +223,7 @@ impl Simulation {
         self.state = state;
         self.stages.hood.invalidate();
         self.stages.pressure.configuration_changed();
-        self.stages.grad_u.clear();
+        self.stages.kinematics.clear();
     }
 
     /// Advances one step of at most `dt_max`: the paper's Steps 1–7.
@@ -267,7 +274,6 @@ impl Simulation {
 
     /// Step 2: the free surface (36)–(39), ∇u^n and the shift velocity u_ps.
     fn kinematics(&mut self, dt: f64) {
-        let n = self.particles();
         let (st, s, kernel) = (&mut self.stages, &mut self.state, &self.kernel);
         let buffer = buffer_flags(&self.inflow);
         self.timers.time(Stage::Kinematics, || {
@@ -275,9 +281,7 @@ impl Simulation {
             if let Some(fs) = st.free_surface.as_mut() {
                 fs.detect(list, sums, kernel, buffer);
             }
-            ghosts.extend_velocity(&s.velocity, &mut st.velocity_ext);
-            st.grad_u.resize(n, Mat2::zeros());
-            sums.gradient_vector(list, &st.velocity_ext, &mut st.grad_u);
+            st.kinematics.update((list, sums, ghosts), &s.velocity);
             let inputs = ShiftInputs {
                 list,
                 sums,
@@ -305,7 +309,7 @@ impl Simulation {
                     fluid,
                     dt,
                     st.hood.parts(),
-                    (&st.grad_u, &s.shift_velocity),
+                    (st.kinematics.constitutive(), &s.shift_velocity),
                     &mut s.conformation,
                 )
             });
@@ -320,11 +324,11 @@ impl Simulation {
         self.timers.time(Stage::Predictor, || {
             let hood = st.hood.parts();
             let terms = PredictorTerms {
-                grad_u: &st.grad_u,
+                grad_u: &st.kinematics.grad_u,
                 u_ps: &s.shift_velocity,
                 viscous: st
                     .viscous
-                    .explicit_laplacian(hood.0, hood.1, &st.velocity_ext)
+                    .explicit_laplacian(hood.0, hood.1, &st.kinematics.velocity_ext)
                     .map(|laplacian| (laplacian, st.nu)),
                 stress: st.conformation.as_ref().map(|c| c.stress_divergence()),
                 body_force,
@@ -445,8 +449,7 @@ impl Simulation {
             + b(&s.conformation)
             + b(&s.shift_velocity)
             + st.hood.heap_bytes()
-            + b(&st.velocity_ext)
-            + b(&st.grad_u)
+            + st.kinematics.heap_bytes()
             + st.shifting.heap_bytes()
             + st.free_surface.as_ref().map_or(0, |f| f.heap_bytes())
             + st.conformation.as_ref().map_or(0, |c| c.heap_bytes())
@@ -485,7 +488,7 @@ impl Simulation {
     /// Bonet–Lok gradient of step 2; zeros before the first step).
     pub fn vorticity(&self) -> Vec<f64> {
         let n = self.particles();
-        let grad_u = &self.stages.grad_u;
+        let grad_u = &self.stages.kinematics.grad_u;
         if grad_u.len() != n {
             return vec![0.0; n];
         }

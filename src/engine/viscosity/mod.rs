@@ -5,9 +5,15 @@
 //! * [`Viscosity::Explicit`], as in the paper: the Morris Laplacian (21) of u^n, and
 //!   δt ≤ f·min(h/max|u|, ρh²/η0), eq. (28).
 //! * [`Viscosity::Implicit`] ([`implicit`]): the term at the new level, one sparse solve per
-//!   velocity component, and δt ≤ f·min(h/max(max|u|, U), h/c) with c = √(η_p/(ρλ)) the
-//!   elastic shear-wave speed (the polymer stress stays explicit) and U the scene's velocity
-//!   scale (which bounds the first steps from rest).
+//!   velocity component, and δt ≤ f·h/max(max|u|, U), U the scene's velocity scale (which
+//!   bounds the first steps from rest).
+//!
+//! Both also keep the elastic limit of the explicitly coupled polymer stress,
+//! [`elastic_limit`]: steps 3 and 4 advance A with ∇u^n and put ∇·τ_p^{n+½} into the predictor,
+//! a staggered explicit scheme for elastic shear waves whose speed is that of the *stretched*
+//! polymer, c² = (G + τ_max)/ρ with G = η_p/λ and τ_max the largest principal polymer stress
+//! (for Oldroyd-B, c² = Gλ_max(A)/ρ). The speed at rest, √(G/ρ), is too small by √λ_max(A):
+//! ~70 at the wall of the Wi = 16 channel, where the old rule broke down.
 
 pub mod implicit;
 
@@ -44,25 +50,59 @@ pub fn advective_limit(h: f64, speed: f64) -> f64 {
     }
 }
 
-/// The elastic limit h/c, c = √(η_p/(ρλ)) the shear-wave speed of the polymer at rest
-/// (infinite without polymer).
-pub fn elastic_limit(fluid: &Fluid, h: f64) -> f64 {
-    if fluid.model.is_viscoelastic() && fluid.polymer_viscosity() > 0.0 {
-        h / (fluid.polymer_viscosity() / (fluid.density * fluid.relaxation_time)).sqrt()
-    } else {
-        f64::INFINITY
+/// The elastic limit C·h/c (before the factor 0.2 of (28), so divided by it):
+/// c² = (G + τ_max)/ρ the shear-wave speed of the stretched polymer (module docs; infinite
+/// without polymer), and C = 0.8·min(2.3 + 4ν̃, 8), ν̃ = ν/(c h) the damping of the implicit
+/// solvent viscosity ν (0 when it is explicit).
+///
+/// 2.3 is the leapfrog limit 2/(h max|s(k)|) of the explicit ∇u → τ → ∇·τ coupling, with s(k)
+/// the symbol of the Bonet–Lok corrected first derivative (quintic kernel, h = 1.3δr: largest,
+/// 0.865/h, at a wavelength of 5.8δr). Measured on start-up Poiseuille (Re = 1, β = 0.1,
+/// H/δr = 15 and 30, Wi = 8–64, Lagrangian and Eulerian): every run whose δt c/h passed
+/// 2.86–3.40 broke down, through a v-wave of wavelength 5δr in the first wall layers, and none
+/// below 2.88 did. Implicit solvent viscosity damps the mode: at Re = 0.01 (ν̃ ≈ 1–2) the
+/// onset moved to 9–12, which 2.3 + 4ν̃ (capped at 8) stays below. 0.8 is the margin.
+pub fn elastic_limit(fluid: &Fluid, h: f64, max_polymer_stress: f64, implicit_nu: f64) -> f64 {
+    if !fluid.model.is_viscoelastic() || fluid.polymer_viscosity() <= 0.0 {
+        return f64::INFINITY;
     }
+    let modulus = fluid.polymer_viscosity() / fluid.relaxation_time;
+    let c = ((modulus + max_polymer_stress.max(0.0)) / fluid.density).sqrt();
+    let damping = implicit_nu / (c * h);
+    let courant = ELASTIC_MARGIN * (LEAPFROG_LIMIT + DAMPING_GAIN * damping).min(DAMPED_LIMIT);
+    courant / DT_FACTOR_OF_28 * h / c
+}
+
+/// The constants of [`elastic_limit`].
+const LEAPFROG_LIMIT: f64 = 2.3;
+const DAMPING_GAIN: f64 = 4.0;
+const DAMPED_LIMIT: f64 = 8.0;
+const ELASTIC_MARGIN: f64 = 0.8;
+/// The factor 0.2 of (28): every limit here is given before it (`scheme.dt_factor`).
+const DT_FACTOR_OF_28: f64 = 0.2;
+
+/// What the time-step limits depend on.
+#[derive(Clone, Copy, Debug)]
+pub struct DtInputs {
+    pub h: f64,
+    /// The largest particle speed.
+    pub max_speed: f64,
+    /// The scene's velocity scale U.
+    pub velocity_scale: f64,
+    /// The largest principal polymer stress over the particles (0 at rest or without
+    /// polymer).
+    pub max_polymer_stress: f64,
 }
 
 impl Viscosity {
-    /// The time-step limit before the factor of (28), for the largest particle speed
-    /// `max_speed` and the scene's velocity scale.
-    pub fn dt_limit(self, fluid: &Fluid, h: f64, max_speed: f64, velocity_scale: f64) -> f64 {
+    /// The time-step limit before the factor of (28).
+    pub fn dt_limit(self, fluid: &Fluid, nu: f64, d: &DtInputs) -> f64 {
         match self {
-            Viscosity::Explicit => viscous_limit(fluid, h).min(advective_limit(h, max_speed)),
-            Viscosity::Implicit => {
-                advective_limit(h, max_speed.max(velocity_scale)).min(elastic_limit(fluid, h))
-            }
+            Viscosity::Explicit => viscous_limit(fluid, d.h)
+                .min(advective_limit(d.h, d.max_speed))
+                .min(elastic_limit(fluid, d.h, d.max_polymer_stress, 0.0)),
+            Viscosity::Implicit => advective_limit(d.h, d.max_speed.max(d.velocity_scale))
+                .min(elastic_limit(fluid, d.h, d.max_polymer_stress, nu)),
         }
     }
 

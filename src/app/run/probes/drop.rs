@@ -66,7 +66,8 @@ impl DropProbe {
         let text = std::fs::read_to_string(dir.join("drop.csv"))?;
         for line in text.lines().skip(1) {
             let v: Vec<f64> = line.split(',').filter_map(|s| s.parse().ok()).collect();
-            if v.len() == 8 && v[0] <= t {
+            // Times are written to 9 digits: a row at t itself may read back a hair later.
+            if v.len() == 8 && v[0] <= t * (1.0 + 1e-8) {
                 self.rows.push(DropRow {
                     t: v[0],
                     t_star: v[1],
