@@ -61,9 +61,11 @@ pub struct SeriesRow {
     pub k_pressure: f64,
     pub k_solvent: f64,
     pub k_polymer: f64,
+    /// The body force g_x driving the flow (constant, or held by `scene.mean_flow`).
+    pub body_force: f64,
 }
 
-pub const SERIES_HEADER: &str = "t,dt,step,u_centre,u_centre_exact,l2_error,ppe_iterations,ppe_residual,ppe_fallbacks,kinetic_energy,max_speed,max_trace_a,min_det_a,u_mean,drag_k,k_pressure,k_solvent,k_polymer";
+pub const SERIES_HEADER: &str = "t,dt,step,u_centre,u_centre_exact,l2_error,ppe_iterations,ppe_residual,ppe_fallbacks,kinetic_energy,max_speed,max_trace_a,min_det_a,u_mean,drag_k,k_pressure,k_solvent,k_polymer,body_force";
 
 /// The series as CSV text.
 pub fn series_csv(rows: &[SeriesRow]) -> String {
@@ -72,7 +74,7 @@ pub fn series_csv(rows: &[SeriesRow]) -> String {
     s.push('\n');
     for r in rows {
         s.push_str(&format!(
-            "{:.8e},{:.6e},{},{:.8e},{:.8e},{:.6e},{:.2},{:.3e},{},{:.8e},{:.6e},{:.8e},{:.8e},{:.8e},{:.6e},{:.6e},{:.6e},{:.6e}\n",
+            "{:.8e},{:.6e},{},{:.8e},{:.8e},{:.6e},{:.2},{:.3e},{},{:.8e},{:.6e},{:.8e},{:.8e},{:.8e},{:.6e},{:.6e},{:.6e},{:.6e},{:.8e}\n",
             r.t,
             r.dt,
             r.step,
@@ -90,7 +92,8 @@ pub fn series_csv(rows: &[SeriesRow]) -> String {
             r.drag_k,
             r.k_pressure,
             r.k_solvent,
-            r.k_polymer
+            r.k_polymer,
+            r.body_force
         ));
     }
     s
@@ -109,7 +112,7 @@ pub fn read_series(path: &Path) -> Result<Vec<SeriesRow>> {
     lines
         .map(|line| {
             let f: Vec<&str> = line.split(',').collect();
-            anyhow::ensure!(f.len() == 18, "bad series line: {line}");
+            anyhow::ensure!(f.len() == 19, "bad series line: {line}");
             let x = |k: usize| -> Result<f64> { Ok(f[k].parse::<f64>()?) };
             Ok(SeriesRow {
                 t: x(0)?,
@@ -130,6 +133,7 @@ pub fn read_series(path: &Path) -> Result<Vec<SeriesRow>> {
                 k_pressure: x(15)?,
                 k_solvent: x(16)?,
                 k_polymer: x(17)?,
+                body_force: x(18)?,
             })
         })
         .collect()

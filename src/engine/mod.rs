@@ -5,6 +5,7 @@
 //! physical idea they implement.
 
 pub mod boundary;
+pub mod drive;
 pub mod frame;
 pub mod free_surface;
 pub mod kernel;

@@ -25,6 +25,8 @@ pub struct State {
     pub conformation: Vec<Sym2>,
     /// u_ps of the last step.
     pub shift_velocity: Vec<Vec2>,
+    /// The body force of the next step (see [`crate::engine::drive`]).
+    pub body_force: Vec2,
 }
 
 /// Why a run stopped early.

@@ -7,7 +7,7 @@ pub use crate::setup::derived::Derived;
 pub use crate::setup::error::CaseError;
 use crate::setup::overrides::apply_override;
 pub use crate::setup::schema::CaseFile;
-pub use crate::setup::validate::{Case, SteadyCriterion};
+pub use crate::setup::validate::{Case, SteadyCriterion, SteadySignal};
 use std::path::Path;
 
 /// Reads, overrides and validates a case file.

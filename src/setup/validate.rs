@@ -22,6 +22,16 @@ pub struct SteadyCriterion {
     pub window: f64,
     /// The averaging time after steady state is reached (default 3).
     pub average: f64,
+    /// What must be steady: the bulk velocity ⟨u⟩ under a constant force, the force when it
+    /// holds ⟨u⟩ (`scene.mean_flow`).
+    pub watch: SteadySignal,
+}
+
+/// The quantity of [`SteadyCriterion`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SteadySignal {
+    BulkVelocity,
+    BodyForce,
 }
 
 /// A validated case.
@@ -276,6 +286,11 @@ fn run(r: &RunSpec, scene: &dyn Scene) -> Result<Run, FieldError> {
                 tolerance,
                 window: positive("run.steady.window", st.window)?,
                 average: positive("run.steady.average", st.average)?,
+                watch: if scene.holds_mean_flow() {
+                    SteadySignal::BodyForce
+                } else {
+                    SteadySignal::BulkVelocity
+                },
             })
         }
     };

@@ -11,7 +11,7 @@
 //! and the neighbour lists, kernel sums, matrices and LU factors are recomputed from the
 //! positions (an Eulerian run rebuilds its fixed lists and refactorises once after a restore).
 //!
-//! The simulation's part, version 1, all numbers little-endian, f64 as raw IEEE bits:
+//! The simulation's part, version 2, all numbers little-endian, f64 as raw IEEE bits:
 //!
 //! ```text
 //!     magic      9 bytes  "RHEOSPHCK"
@@ -21,6 +21,7 @@
 //!     spacing    f64      δr
 //!     time       f64
 //!     steps      u64
+//!     body force f64, f64   (the drive's force of the next step)
 //!     position        n × (x, y)
 //!     velocity        n × (x, y)
 //!     pressure        n × p
@@ -37,13 +38,13 @@ use std::path::Path;
 /// The first bytes of every checkpoint.
 pub const MAGIC: &[u8; 9] = b"RHEOSPHCK";
 /// The format version written by [`encode`].
-pub const VERSION: u32 = 1;
+pub const VERSION: u32 = 2;
 
 const FLAG_CONFORMATION: u32 = 1;
 const FLAG_EULERIAN: u32 = 2;
 const KNOWN_FLAGS: u32 = FLAG_CONFORMATION | FLAG_EULERIAN;
 /// Bytes before the particle arrays.
-const HEADER: usize = MAGIC.len() + 4 + 4 + 8 + 8 + 8 + 8;
+const HEADER: usize = MAGIC.len() + 4 + 4 + 8 + 8 + 8 + 8 + 16;
 const CHECKSUM: usize = 8;
 
 /// Why a checkpoint could not be restored.
@@ -103,6 +104,8 @@ pub fn encode(sim: &Simulation) -> Vec<u8> {
     out.extend_from_slice(&s.time.to_le_bytes());
     out.extend_from_slice(&s.steps.to_le_bytes());
     let mut put = |v: f64| out.extend_from_slice(&v.to_le_bytes());
+    put(s.body_force.x);
+    put(s.body_force.y);
     for field in [&s.position, &s.velocity] {
         field.iter().for_each(|u| {
             put(u.x);
@@ -236,6 +239,7 @@ pub fn restore(sim: &mut Simulation, bytes: &[u8]) -> Result<(), CheckpointError
     }
     let time = r.f64();
     let steps = r.u64();
+    let body_force = Vec2::new(r.f64(), r.f64());
     let position = r.vec2s(n);
     let velocity = r.vec2s(n);
     let pressure = (0..n).map(|_| r.f64()).collect();
@@ -263,6 +267,7 @@ pub fn restore(sim: &mut Simulation, bytes: &[u8]) -> Result<(), CheckpointError
         pressure,
         conformation,
         shift_velocity,
+        body_force,
     });
     Ok(())
 }

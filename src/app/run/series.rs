@@ -4,6 +4,7 @@ use super::summary::PpeWindow;
 use crate::analysis::diagnostics;
 use crate::analysis::reference::Reference;
 use crate::app::io::SeriesRow;
+use crate::engine::drive::bulk_velocity;
 use crate::engine::step::Simulation;
 use crate::setup::scenes::Scene;
 
@@ -44,18 +45,11 @@ pub fn row(
         max_speed: stats.max_speed,
         max_trace_a: stats.max_trace,
         min_det_a: stats.min_det,
-        u_mean: bulk_velocity(sim),
+        u_mean: bulk_velocity(&s.velocity, sim.particle_volume(), &sim.domain),
         drag_k: f64::NAN,
         k_pressure: f64::NAN,
         k_solvent: f64::NAN,
         k_polymer: f64::NAN,
+        body_force: s.body_force.x,
     }
-}
-
-/// The bulk velocity ⟨u⟩ = Q/H = Σ u_x V/(L H) (see [`SeriesRow::u_mean`]).
-fn bulk_velocity(sim: &Simulation) -> f64 {
-    let s = &sim.state;
-    let sum = diagnostics::blocked_sum(s.velocity.len(), |i| s.velocity[i].x);
-    let extent = sim.domain.max - sim.domain.min;
-    sum * sim.particle_volume() / (extent.x * extent.y)
 }

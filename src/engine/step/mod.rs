@@ -22,6 +22,7 @@ pub use crate::engine::state::{Breakdown, Scales, State, StepReport};
 
 use crate::engine::boundary::inflow::Inflow;
 use crate::engine::boundary::{Ghosts, Wall};
+use crate::engine::drive::{bulk_velocity, Drive};
 use crate::engine::free_surface::{FreeSurface, FreeSurfaceStage};
 use crate::engine::kernel::QuinticSpline;
 use crate::engine::kinematics::Kinematics;
@@ -52,7 +53,9 @@ pub struct Setup {
     pub spacing: f64,
     pub fluid: Fluid,
     pub scheme: Scheme,
+    /// The initial body force per unit mass, and how it evolves.
     pub body_force: Vec2,
+    pub drive: Drive,
     pub scales: Scales,
     /// Free surfaces: detection and Dirichlet pressure (35a), the free-surface shifting
     /// (40)–(44) and the positive stress divergence (20).
@@ -86,7 +89,7 @@ pub struct Simulation {
     pub kernel: QuinticSpline,
     pub spacing: f64,
     pub domain: Domain,
-    pub body_force: Vec2,
+    pub drive: Drive,
     pub scales: Scales,
     /// The inflow buffer of a jet; its flags follow the particle order.
     pub inflow: Option<Inflow>,
@@ -140,7 +143,7 @@ impl Simulation {
             scheme,
             spacing: setup.spacing,
             domain: setup.domain,
-            body_force: setup.body_force,
+            drive: setup.drive,
             scales: setup.scales,
             inflow: setup.inflow,
             state: State {
@@ -151,6 +154,7 @@ impl Simulation {
                 pressure: vec![0.0; n],
                 conformation,
                 shift_velocity: vec![Vec2::zeros(); n],
+                body_force: setup.body_force,
             },
             timers: StageSeconds::default(),
             stages,
@@ -240,6 +244,10 @@ impl Simulation {
         let ppe = self.pressure_poisson(dt)?;
         self.projection(dt);
         self.final_positions(dt);
+        let dv = self.particle_volume();
+        let (s, domain) = (&mut self.state, &self.domain);
+        let bulk = || bulk_velocity(&s.velocity, dv, domain);
+        self.drive.update(&mut s.body_force, bulk, dt);
         self.state.time += dt;
         self.state.steps += 1;
         let t0 = std::time::Instant::now();
@@ -320,7 +328,7 @@ impl Simulation {
     fn predictor(&mut self, dt: f64) -> Result<(), Breakdown> {
         let (st, s) = (&mut self.stages, &self.state);
         let inv_rho = 1.0 / self.fluid.density;
-        let body_force = self.body_force;
+        let body_force = s.body_force;
         self.timers.time(Stage::Predictor, || {
             let hood = st.hood.parts();
             let terms = PredictorTerms {

@@ -7,6 +7,7 @@ use super::{
 use crate::analysis::diagnostics::centre_line_velocity;
 use crate::analysis::reference::Reference;
 use crate::engine::boundary::{Circle, Plane, Shape, Wall};
+use crate::engine::drive::Drive;
 use crate::engine::lattice::lattice;
 use crate::engine::math::Vec2;
 use crate::engine::neighbours::Domain;
@@ -34,6 +35,10 @@ pub struct ChannelSpec {
     /// A solid cylinder in the channel (periodic array of cylinders).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cylinder: Option<CylinderSpec>,
+    /// Hold the bulk velocity ⟨u⟩ = Q/H at this value by adjusting the body force every step
+    /// (`body_force` is then the initial guess; see `engine::drive`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mean_flow: Option<f64>,
 }
 
 /// `[scene.cylinder]`.
@@ -56,6 +61,8 @@ pub struct Channel {
     /// The nominal mean velocity (with a cylinder; 0 without, where U follows from g).
     pub velocity: f64,
     pub cylinder: Option<Circle>,
+    /// The bulk velocity the body force holds (None: a constant force).
+    pub mean_flow: Option<f64>,
 }
 
 impl ChannelSpec {
@@ -93,6 +100,16 @@ impl ChannelSpec {
             None => None,
             Some(cy) => Some(cy.validate(self.length, self.height, self.resolution)?),
         };
+        let mean_flow = match self.mean_flow {
+            None => None,
+            Some(_) if g[0] <= 0.0 => {
+                return Err(field_err(
+                    "scene.body_force",
+                    "with scene.mean_flow the force is the controller's initial guess: positive along x",
+                ))
+            }
+            Some(u) => Some(positive("scene.mean_flow", u)?),
+        };
         Ok(Channel {
             bounds: SceneBox {
                 length: self.length,
@@ -103,6 +120,7 @@ impl ChannelSpec {
             body_force,
             velocity,
             cylinder,
+            mean_flow,
         })
     }
 }
@@ -229,6 +247,16 @@ impl Scene for Channel {
             fluid: *fluid,
             scheme: *scheme,
             body_force: self.body_force,
+            drive: match self.mean_flow {
+                None => Drive::Constant,
+                Some(u) => Drive::mean_flow(
+                    u,
+                    self.body_force.x,
+                    fluid.density,
+                    fluid.viscosity,
+                    self.bounds.height,
+                ),
+            },
             scales,
             free_surface: false,
             inflow: None,
@@ -263,6 +291,10 @@ impl Scene for Channel {
 
     fn varies_across_height(&self) -> bool {
         self.cylinder.is_none()
+    }
+
+    fn holds_mean_flow(&self) -> bool {
+        self.mean_flow.is_some()
     }
 
     fn cylinder(&self) -> Option<Circle> {

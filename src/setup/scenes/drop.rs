@@ -7,6 +7,7 @@ use super::{
     SceneBox,
 };
 use crate::analysis::reference::Reference;
+use crate::engine::drive::Drive;
 use crate::engine::lattice::disc;
 use crate::engine::math::Vec2;
 use crate::engine::rheology::Fluid;
@@ -144,6 +145,7 @@ impl Scene for Drop {
             fluid: *fluid,
             scheme: *scheme,
             body_force: self.body_force,
+            drive: Drive::Constant,
             scales,
             free_surface: true,
             inflow: None,

@@ -8,6 +8,7 @@ use super::{
 };
 use crate::analysis::reference::Reference;
 use crate::engine::boundary::inflow::{Inflow, BUFFER_ROWS};
+use crate::engine::drive::Drive;
 use crate::engine::math::Vec2;
 use crate::engine::rheology::Fluid;
 use crate::engine::scheme::Scheme;
@@ -152,6 +153,7 @@ impl Scene for Jet {
             fluid: *fluid,
             scheme: *scheme,
             body_force: self.body_force,
+            drive: Drive::Constant,
             scales,
             free_surface: true,
             inflow: Some(inflow),

@@ -152,6 +152,10 @@ pub trait Scene: fmt::Debug + Send + Sync {
     fn varies_across_height(&self) -> bool {
         false
     }
+    /// Whether the body force is adjusted to hold the bulk velocity.
+    fn holds_mean_flow(&self) -> bool {
+        false
+    }
     /// A solid cylinder in the flow, whose drag and wake the run reports.
     fn cylinder(&self) -> Option<Circle> {
         None

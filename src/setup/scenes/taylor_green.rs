@@ -4,6 +4,7 @@
 use super::{check_box, check_memory, check_periodic_length, Scene, SceneBox};
 use crate::analysis::analytic::taylor_green;
 use crate::analysis::reference::Reference;
+use crate::engine::drive::Drive;
 use crate::engine::lattice::lattice;
 use crate::engine::math::Vec2;
 use crate::engine::neighbours::Domain;
@@ -110,6 +111,7 @@ impl Scene for TaylorGreen {
             fluid: *fluid,
             scheme: *scheme,
             body_force: Vec2::zeros(),
+            drive: Drive::Constant,
             scales,
             free_surface: false,
             inflow: None,

@@ -7,7 +7,7 @@ use crate::analysis::centreline::Profile;
 use crate::app::io::SeriesRow;
 use serde::{Deserialize, Serialize};
 
-pub use crate::setup::case::SteadyCriterion;
+pub use crate::setup::case::{SteadyCriterion, SteadySignal};
 
 impl SteadyCriterion {
     /// The time at which the series first satisfies the criterion, looking at the rows up to
@@ -19,7 +19,10 @@ impl SteadyCriterion {
             return None;
         }
         let start = rows.partition_point(|r| r.t < from - 1e-12);
-        let values = rows[start..].iter().map(|r| r.u_mean);
+        let values = rows[start..].iter().map(|r| match self.watch {
+            SteadySignal::BulkVelocity => r.u_mean,
+            SteadySignal::BodyForce => r.body_force,
+        });
         let (mut lo, mut hi, mut sum, mut n) = (f64::INFINITY, f64::NEG_INFINITY, 0.0, 0.0);
         for v in values {
             lo = lo.min(v);
@@ -171,6 +174,7 @@ mod tests {
             tolerance: 0.02,
             window: 1.0,
             average: 3.0,
+            watch: SteadySignal::BulkVelocity,
         };
         // Not a full window yet.
         assert_eq!(c.reached(&rows(&[(0.0, 1.0), (0.5, 1.0)])), None);
@@ -182,5 +186,19 @@ mod tests {
         // 1 % over the last unit; the earlier transient is outside the window.
         let r = rows(&[(0.0, 0.2), (0.5, 1.0), (1.0, 1.01), (1.5, 1.005)]);
         assert_eq!(c.reached(&r), Some(1.5));
+        // Holding ⟨u⟩, the force must settle instead: ⟨u⟩ steady, the force still moving.
+        let held = SteadyCriterion {
+            watch: SteadySignal::BodyForce,
+            ..c
+        };
+        let moving: Vec<SeriesRow> = r
+            .iter()
+            .enumerate()
+            .map(|(k, row)| SeriesRow {
+                body_force: 300.0 + 10.0 * k as f64,
+                ..*row
+            })
+            .collect();
+        assert_eq!(held.reached(&moving), None);
     }
 }
