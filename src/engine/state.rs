@@ -40,4 +40,7 @@ pub struct Breakdown {
 pub struct StepReport {
     pub dt: f64,
     pub ppe: SolveReport,
+    /// δt c/h with c the shear-wave speed of the stretched polymer (0 without polymer): the
+    /// number the elastic limit bounds (see `engine::viscosity::elastic_limit`).
+    pub elastic_courant: f64,
 }

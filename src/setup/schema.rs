@@ -116,8 +116,7 @@ impl FluidSpec {
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "kebab-case")]
 pub enum ProjectionChoice {
-    /// `incremental` with implicit viscosity, `standard` with explicit viscosity or a free
-    /// surface.
+    /// `incremental` with implicit viscosity past a body (a cylinder), `standard` otherwise.
     Auto,
     Standard,
     Incremental,

@@ -129,8 +129,8 @@ impl<'a> Run<'a> {
             match self.sim.step(dt_max) {
                 Ok(report) => {
                     self.last_dt = report.dt;
-                    self.window.add(&report.ppe);
-                    self.totals.add(&report.ppe);
+                    self.window.add(&report);
+                    self.totals.add(&report);
                 }
                 Err(b) => {
                     self.breakdown = Some(b.reason);

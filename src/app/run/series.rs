@@ -51,5 +51,6 @@ pub fn row(
         k_solvent: f64::NAN,
         k_polymer: f64::NAN,
         body_force: s.body_force.x,
+        elastic_courant: window.max_elastic_courant,
     }
 }

@@ -81,10 +81,15 @@ pub struct PpeWindow {
     pub fallbacks: u64,
     pub floor_stops: u64,
     pub lu_solves: u64,
+    /// The largest elastic Courant number δt c/h of a step.
+    #[serde(default)]
+    pub max_elastic_courant: f64,
 }
 
 impl PpeWindow {
-    pub fn add(&mut self, r: &rheosph_solver::SolveReport) {
+    pub fn add(&mut self, step: &crate::engine::step::StepReport) {
+        self.max_elastic_courant = self.max_elastic_courant.max(step.elastic_courant);
+        let r = &step.ppe;
         self.steps += 1;
         self.iterations += r.iterations as u64;
         self.max_iterations = self.max_iterations.max(r.iterations);

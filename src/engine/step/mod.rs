@@ -38,7 +38,7 @@ use crate::engine::rheology::{ConformationStage, Fluid};
 use crate::engine::scheme::Scheme;
 use crate::engine::shifting::{ShiftInputs, ShiftRule, Shifting};
 use crate::engine::timing::{Stage, StageSeconds};
-use crate::engine::viscosity::{DtInputs, ViscousStage};
+use crate::engine::viscosity::{elastic_wave_speed, DtInputs, ViscousStage};
 use rayon::prelude::*;
 
 /// Everything needed to start a simulation.
@@ -175,6 +175,11 @@ impl Simulation {
     /// for explicit viscosity, the advective limit for implicit, and in both the elastic limit
     /// of the stretched polymer.
     pub fn stable_dt(&self) -> f64 {
+        self.step_limit().0
+    }
+
+    /// The stable step and the elastic wave speed it was limited by.
+    fn step_limit(&self) -> (f64, f64) {
         let s = &self.state;
         let max_speed = s
             .velocity
@@ -197,7 +202,8 @@ impl Simulation {
             .scheme
             .viscosity
             .dt_limit(fluid, self.stages.nu, &inputs);
-        self.scheme.dt_factor * limit
+        let wave_speed = elastic_wave_speed(fluid, max_polymer_stress);
+        (self.scheme.dt_factor * limit, wave_speed)
     }
 
     /// Sorts the fluid particles along a Morton curve of their cells (see
@@ -235,7 +241,8 @@ impl Simulation {
         if self.stages.reordering.due(self.state.steps) {
             self.reorder();
         }
-        let dt = self.stable_dt().min(dt_max);
+        let (stable, wave_speed) = self.step_limit();
+        let dt = stable.min(dt_max);
         self.intermediate_positions(dt);
         self.neighbourhoods();
         self.kinematics(dt);
@@ -255,7 +262,11 @@ impl Simulation {
         self.timers
             .add(Stage::Diagnostics, t0.elapsed().as_secs_f64());
         checked?;
-        Ok(StepReport { dt, ppe })
+        Ok(StepReport {
+            dt,
+            ppe,
+            elastic_courant: dt * wave_speed / self.kernel.h(),
+        })
     }
 
     /// Step 1: r*, eq. (23).

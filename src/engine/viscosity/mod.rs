@@ -66,11 +66,20 @@ pub fn elastic_limit(fluid: &Fluid, h: f64, max_polymer_stress: f64, implicit_nu
     if !fluid.model.is_viscoelastic() || fluid.polymer_viscosity() <= 0.0 {
         return f64::INFINITY;
     }
-    let modulus = fluid.polymer_viscosity() / fluid.relaxation_time;
-    let c = ((modulus + max_polymer_stress.max(0.0)) / fluid.density).sqrt();
+    let c = elastic_wave_speed(fluid, max_polymer_stress);
     let damping = implicit_nu / (c * h);
     let courant = ELASTIC_MARGIN * (LEAPFROG_LIMIT + DAMPING_GAIN * damping).min(DAMPED_LIMIT);
     courant / DT_FACTOR_OF_28 * h / c
+}
+
+/// The shear-wave speed of the stretched polymer, c² = (G + τ_max)/ρ with G = η_p/λ (0
+/// without polymer).
+pub fn elastic_wave_speed(fluid: &Fluid, max_polymer_stress: f64) -> f64 {
+    if !fluid.model.is_viscoelastic() || fluid.polymer_viscosity() <= 0.0 {
+        return 0.0;
+    }
+    let modulus = fluid.polymer_viscosity() / fluid.relaxation_time;
+    ((modulus + max_polymer_stress.max(0.0)) / fluid.density).sqrt()
 }
 
 /// The constants of [`elastic_limit`].
