@@ -22,6 +22,7 @@
 //! All reductions are computed over fixed-size blocks and summed in order, so the results do
 //! not depend on the number of threads.
 
+pub mod amg;
 mod bicgstab;
 mod lu;
 pub mod vector;
@@ -58,6 +59,16 @@ pub enum Strategy {
 }
 
 /// The null space of the matrix, if it is known to be singular.
+/// The preconditioner of BiCGStab.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Preconditioner {
+    /// The inverse diagonal.
+    Jacobi,
+    /// One smoothed-aggregation AMG V-cycle ([`amg`]); the hierarchy is rebuilt when the
+    /// matrix changes.
+    Amg,
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum NullSpace {
     /// The matrix is non-singular.
@@ -80,6 +91,8 @@ pub struct SolverOptions {
     /// The caller's promise that the matrix equals the one of the previous solve: the direct
     /// path then reuses its factorisation (a fixed-particle run factorises once).
     pub matrix_unchanged: bool,
+    /// Jacobi, or an AMG V-cycle (BiCGStab only).
+    pub preconditioner: Preconditioner,
 }
 
 impl Default for SolverOptions {
@@ -91,6 +104,7 @@ impl Default for SolverOptions {
             null_space: NullSpace::None,
             strategy: Strategy::IterativeWithFallback,
             matrix_unchanged: false,
+            preconditioner: Preconditioner::Jacobi,
         }
     }
 }
@@ -232,6 +246,12 @@ impl Solver {
 impl Solver {
     /// Heap bytes of the iterative workspace (the LU factors, when present, are faer's and
     /// not counted).
+    /// Drops any preconditioner built from an earlier matrix (see
+    /// [`BiCgStabWorkspace::invalidate`]).
+    pub fn invalidate_preconditioner(&mut self) {
+        self.bicgstab.invalidate();
+    }
+
     pub fn heap_bytes(&self) -> usize {
         self.bicgstab.heap_bytes()
     }

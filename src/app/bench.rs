@@ -44,7 +44,7 @@ pub struct BenchRow {
     pub bytes_per_particle: f64,
 }
 
-fn time_ms<T>(repeats: usize, mut f: impl FnMut() -> T) -> (f64, T) {
+pub(crate) fn time_ms<T>(repeats: usize, mut f: impl FnMut() -> T) -> (f64, T) {
     let start = Instant::now();
     let mut out = f();
     for _ in 1..repeats {
@@ -54,7 +54,7 @@ fn time_ms<T>(repeats: usize, mut f: impl FnMut() -> T) -> (f64, T) {
 }
 
 /// The Poiseuille case at `resolution` particles across.
-fn case_at(resolution: usize) -> Result<Case> {
+pub(crate) fn case_at(resolution: usize) -> Result<Case> {
     let text = include_str!("../../cases/poiseuille.toml");
     case::parse(
         text,
@@ -70,7 +70,7 @@ fn case_at(resolution: usize) -> Result<Case> {
 const JITTER: f64 = 0.02;
 
 /// A developed, disordered state (see module docs).
-fn developed(sim: &mut Simulation, case: &Case) -> Result<()> {
+pub(crate) fn developed(sim: &mut Simulation, case: &Case) -> Result<()> {
     let dr = sim.spacing;
     let f = case.fluid;
     let g = case.scene.body_force()[0];

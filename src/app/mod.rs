@@ -2,6 +2,7 @@
 //! formats and charts.
 
 pub mod bench;
+pub mod bench_solvers;
 pub mod cli;
 pub mod compare;
 pub mod io;

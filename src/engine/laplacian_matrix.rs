@@ -112,6 +112,23 @@ impl LaplacianMatrix {
         self.indices.len()
     }
 
+    /// A copy of the last assembled matrix (for benchmarks and diagnostics).
+    pub fn to_csr(&self) -> CsMat<f64> {
+        let n = self.indptr.len().saturating_sub(1);
+        CsMat::new(
+            (n, n),
+            self.indptr.clone(),
+            self.indices.clone(),
+            self.data.clone(),
+        )
+    }
+
+    /// Drops the solver's preconditioner (the unknowns were reordered, or a checkpoint was
+    /// written).
+    pub fn invalidate_preconditioner(&mut self) {
+        self.solver.invalidate_preconditioner();
+    }
+
     /// LU factorisations computed so far.
     pub fn factorisations(&self) -> usize {
         self.solver.factorisations()

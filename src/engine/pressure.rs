@@ -82,9 +82,19 @@ impl PressureSystem {
         self.matrix.nnz()
     }
 
+    /// A copy of the last assembled matrix and right-hand side (for benchmarks).
+    pub fn system(&self) -> (sprs::CsMat<f64>, Vec<f64>) {
+        (self.matrix.to_csr(), self.rhs.clone())
+    }
+
     /// LU factorisations computed so far.
     pub fn factorisations(&self) -> usize {
         self.matrix.factorisations()
+    }
+
+    /// Drops the solver's preconditioner.
+    pub fn invalidate_preconditioner(&mut self) {
+        self.matrix.invalidate_preconditioner();
     }
 
     /// Solves the assembled system; `pressure` is the warm start on entry.
@@ -198,6 +208,7 @@ impl PressureStage {
             },
             strategy: self.strategy,
             matrix_unchanged: !std::mem::replace(&mut self.matrix_stale, false),
+            preconditioner: s.preconditioner,
         };
         self.system.solve(unknown, &options)
     }
@@ -222,6 +233,11 @@ impl PressureStage {
     /// Stored PPE entries of the last assembly.
     pub fn nnz(&self) -> usize {
         self.system.nnz()
+    }
+
+    /// Drops the solver's preconditioner.
+    pub fn invalidate_preconditioner(&mut self) {
+        self.system.invalidate_preconditioner();
     }
 
     /// LU factorisations so far.

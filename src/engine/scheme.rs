@@ -62,6 +62,8 @@ pub struct PpeSettings {
     /// Start from the previous step's pressure (true) or from zero.
     pub warm_start: bool,
     pub solver: PpeSolver,
+    /// The preconditioner of BiCGStab, here and in the implicit viscous solve.
+    pub preconditioner: rheosph_solver::Preconditioner,
 }
 
 /// Which linear solver the PPE uses.

@@ -122,6 +122,19 @@ pub enum ProjectionChoice {
     Incremental,
 }
 
+/// BiCGStab's preconditioner.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum PreconditionerChoice {
+    /// AMG from [`AMG_PARTICLES`] particles, Jacobi below.
+    Auto,
+    Jacobi,
+    Amg,
+}
+
+/// Particles from which `auto` takes the AMG preconditioner (see the README's speed section).
+pub const AMG_PARTICLES: usize = 4_000;
+
 /// The velocity gradient of the constitutive update (see
 /// [`crate::engine::kinematics::ConstitutiveGradient`]).
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
@@ -160,6 +173,8 @@ pub struct SchemeSpec {
     pub ppe_warm_start: bool,
     /// `auto`, `bicgstab` or `lu`.
     pub ppe_solver: PpeSolver,
+    /// BiCGStab's preconditioner (PPE and implicit viscosity): `auto`, `jacobi` or `amg`.
+    pub preconditioner: PreconditionerChoice,
     /// Periodically sort particles along a Morton curve for memory locality.
     pub reorder: bool,
     /// How the conformation is carried onto wall mirrors.
@@ -192,6 +207,7 @@ impl Default for SchemeSpec {
             ppe_max_iterations: 1000,
             ppe_warm_start: true,
             ppe_solver: PpeSolver::Auto,
+            preconditioner: PreconditionerChoice::Auto,
             reorder: true,
             wall_conformation: TensorMirror::Even,
             projection: ProjectionChoice::Auto,

@@ -65,8 +65,10 @@ impl Case {
 }
 use crate::engine::kinematics::ConstitutiveGradient;
 use crate::setup::schema::{
-    CaseFile, FluidSpec, GradientChoice, ProjectionChoice, RunSpec, SchemeSpec,
+    CaseFile, FluidSpec, GradientChoice, PreconditionerChoice, ProjectionChoice, RunSpec,
+    SchemeSpec, AMG_PARTICLES,
 };
+use rheosph_solver::Preconditioner;
 
 pub fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
     let scene = raw.scene.validate()?;
@@ -247,6 +249,13 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene) -> Result<Scheme, FieldError> {
             max_iterations: s.ppe_max_iterations,
             warm_start: s.ppe_warm_start,
             solver: s.ppe_solver,
+            preconditioner: match s.preconditioner {
+                PreconditionerChoice::Auto if scene.particles() >= AMG_PARTICLES => {
+                    Preconditioner::Amg
+                }
+                PreconditionerChoice::Auto | PreconditionerChoice::Jacobi => Preconditioner::Jacobi,
+                PreconditionerChoice::Amg => Preconditioner::Amg,
+            },
         },
         reorder: s.reorder,
         wall_conformation: s.wall_conformation,

@@ -17,6 +17,11 @@ pub struct BenchArgs {
     /// Output directory for bench.csv and bench.txt.
     #[arg(long, default_value = "runs/bench")]
     pub out: PathBuf,
+    /// Time the PPE solvers (Jacobi and AMG BiCGStab from zero) against N and the SpMV
+    /// bandwidth bound instead, into solvers.csv and solvers.txt (try --sizes
+    /// 1000,4000,16000,64000,256000).
+    #[arg(long)]
+    pub solvers: bool,
 }
 
 #[derive(Args, Debug)]

@@ -93,6 +93,10 @@ fn dispatch(cli: Cli) -> anyhow::Result<ExitCode> {
             crate::app::study::cli::dispatch(study, cli.quiet)?;
             Ok(ExitCode::SUCCESS)
         }
+        Command::Bench(args) if args.solvers => {
+            crate::app::bench_solvers::run(&args.sizes, &args.out, cli.quiet)?;
+            Ok(ExitCode::SUCCESS)
+        }
         Command::Bench(args) => {
             crate::app::bench::run(&args.sizes, args.steps, args.lu_max, &args.out, cli.quiet)?;
             Ok(ExitCode::SUCCESS)

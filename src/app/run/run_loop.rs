@@ -235,6 +235,7 @@ impl<'a> Run<'a> {
             probes: self.probes.checkpoint(),
         };
         checkpoint::save(&self.options.out_dir, &state, &self.sim)?;
+        self.sim.reset_preconditioners();
         self.sim
             .timers
             .add(Stage::Output, t0.elapsed().as_secs_f64());

@@ -221,19 +221,31 @@ impl Simulation {
             if let Some(inflow) = self.inflow.as_mut() {
                 order.apply_bool(&mut inflow.flags);
             }
+            self.stages.pressure.invalidate_preconditioner();
+            self.stages.viscous.invalidate_preconditioner();
         }
         self.timers
             .add(Stage::Neighbours, t0.elapsed().as_secs_f64());
     }
 
+    /// Drops the linear solvers' preconditioners, so that the next step builds them from its
+    /// own matrices, as a run continued from a checkpoint written now does: the run loop
+    /// calls this at every checkpoint, which keeps continued runs bit-identical.
+    pub fn reset_preconditioners(&mut self) {
+        self.stages.pressure.invalidate_preconditioner();
+        self.stages.viscous.invalidate_preconditioner();
+    }
+
     /// Replaces the state with a restored one and marks the caches derived from the particle
     /// configuration (neighbour lists, kernel sums, PPE matrix and LU factors) for rebuilding.
-    /// The last step's velocity gradient is dropped, as before a first step.
+    /// The last step's velocity gradient, the preconditioners and the viscous guess are
+    /// dropped, as before a first step.
     pub fn restore_state(&mut self, state: State) {
         self.state = state;
         self.stages.hood.invalidate();
         self.stages.pressure.configuration_changed();
         self.stages.kinematics.clear();
+        self.reset_preconditioners();
     }
 
     /// Advances one step of at most `dt_max`: the paper's Steps 1–7.
@@ -359,6 +371,7 @@ impl Simulation {
         let buffer = buffer_flags(&self.inflow);
         let prescribed = self.inflow.as_ref().map_or(Vec2::zeros(), |b| b.velocity);
         let nu_dt = st.nu * dt;
+        let preconditioner = self.scheme.ppe.preconditioner;
         self.timers
             .time(Stage::Viscous, || {
                 st.viscous.solve(
@@ -367,6 +380,7 @@ impl Simulation {
                     &s.velocity,
                     &mut st.velocity_star,
                     (buffer, prescribed),
+                    preconditioner,
                 )
             })
             .map_err(|e| Breakdown {

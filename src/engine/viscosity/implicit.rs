@@ -7,7 +7,7 @@
 //!
 //! with L the Morris Laplacian (21) and the wall mirrors' no-slip values u_j = −u_i folded
 //! into the matrix. Both velocity components share the matrix; each is solved by
-//! warm-started BiCGStab from u^n (sparse-LU fallback). The matrix is diagonally dominant
+//! warm-started BiCGStab from u^n plus the previous step's u* − u (sparse-LU fallback). The matrix is diagonally dominant
 //! (an M-matrix in full support), so the solve is cheap, and δt is freed from the viscous
 //! limit ρh²/η0 of (28): see [`super::Viscosity::dt_limit`].
 
@@ -17,7 +17,7 @@ use crate::engine::laplacian_matrix::LaplacianMatrix;
 use crate::engine::math::Vec2;
 use crate::engine::neighbours::NeighbourList;
 use crate::engine::operators::KernelSums;
-use rheosph_solver::{NullSpace, SolveError, SolveReport, SolverOptions, Strategy};
+use rheosph_solver::{NullSpace, Preconditioner, SolveError, SolveReport, SolverOptions, Strategy};
 
 /// Reusable matrix and component buffers of the implicit viscous solve.
 #[derive(Default)]
@@ -25,6 +25,8 @@ pub struct ImplicitViscosity {
     matrix: LaplacianMatrix,
     rhs: Vec<f64>,
     component: Vec<f64>,
+    /// u* − u^n of the previous step, per particle (empty: none, e.g. after a reorder).
+    increment: Vec<Vec2>,
 }
 
 impl ImplicitViscosity {
@@ -33,6 +35,14 @@ impl ImplicitViscosity {
         self.matrix.heap_bytes()
             + crate::engine::vec_bytes(&self.rhs)
             + crate::engine::vec_bytes(&self.component)
+            + crate::engine::vec_bytes(&self.increment)
+    }
+
+    /// Drops the solver's preconditioner and the previous step's increment (indices changed,
+    /// or a checkpoint was written that does not carry them).
+    pub fn invalidate_preconditioner(&mut self) {
+        self.matrix.invalidate_preconditioner();
+        self.increment.clear();
     }
 
     /// Solves for u* given the explicit part `rhs` (overwritten with u*): `nu_dt` = δt ν.
@@ -48,7 +58,7 @@ impl ImplicitViscosity {
         warm_start: &[Vec2],
         velocity: &mut [Vec2],
         prescribed: &[bool],
-        tolerance: f64,
+        (tolerance, preconditioner): (f64, Preconditioner),
     ) -> Result<[SolveReport; 2], SolveError> {
         self.matrix
             .assemble(list, sums, ghosts, Field::Velocity, 1.0, -nu_dt, prescribed);
@@ -59,13 +69,26 @@ impl ImplicitViscosity {
             null_space: NullSpace::None,
             strategy: Strategy::IterativeWithFallback,
             matrix_unchanged: false,
+            preconditioner,
         };
         let mut reports = [None, None];
         for (axis, report) in reports.iter_mut().enumerate() {
+            // Both components share the matrix (and an AMG hierarchy or LU factors).
+            let options = SolverOptions {
+                matrix_unchanged: axis > 0,
+                ..options
+            };
             self.rhs.clear();
             self.rhs.extend(velocity.iter().map(|u| u[axis]));
+            // The guess u^n + (u* − u)^{n−1}: in a steady flow u* − u^n = δt∇p/ρ (standard
+            // projection) is steady too, and the guess is then nearly the solution.
             self.component.clear();
-            self.component.extend(warm_start.iter().map(|u| u[axis]));
+            if self.increment.len() == warm_start.len() {
+                let guess = warm_start.iter().zip(&self.increment);
+                self.component.extend(guess.map(|(u, d)| u[axis] + d[axis]));
+            } else {
+                self.component.extend(warm_start.iter().map(|u| u[axis]));
+            }
             *report = Some(
                 self.matrix
                     .solve(&self.rhs, &mut self.component, &options)?,
@@ -74,6 +97,9 @@ impl ImplicitViscosity {
                 u[axis] = *c;
             }
         }
+        self.increment.clear();
+        let increment = velocity.iter().zip(warm_start).map(|(s, u)| *s - *u);
+        self.increment.extend(increment);
         match reports {
             [Some(x), Some(y)] => Ok([x, y]),
             _ => Err(SolveError::Lu("viscous solve produced no report".into())),

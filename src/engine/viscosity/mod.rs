@@ -144,6 +144,13 @@ impl ViscousStage {
         }
     }
 
+    /// Drops the implicit solve's preconditioner.
+    pub fn invalidate_preconditioner(&mut self) {
+        if let ViscousStage::Implicit(m) = self {
+            m.invalidate_preconditioner();
+        }
+    }
+
     /// The explicit term's ∇²u^n (eq. (21), from the extended velocity), or None when the
     /// term is taken implicitly.
     pub fn explicit_laplacian(
@@ -172,6 +179,7 @@ impl ViscousStage {
         warm_start: &[Vec2],
         velocity: &mut [Vec2],
         (prescribed, value): (&[bool], Vec2),
+        preconditioner: rheosph_solver::Preconditioner,
     ) -> Result<Option<[SolveReport; 2]>, SolveError> {
         match self {
             ViscousStage::Explicit { .. } => Ok(None),
@@ -187,7 +195,7 @@ impl ViscousStage {
                     warm_start,
                     velocity,
                     prescribed,
-                    VISCOUS_TOLERANCE,
+                    (VISCOUS_TOLERANCE, preconditioner),
                 )
                 .map(Some)
             }
