@@ -8,7 +8,7 @@
 
 use crate::analysis::analytic::taylor_green::velocity as taylor_green_velocity;
 use crate::analysis::analytic::waters_king::{self, Modes, StartupPoiseuille};
-use crate::analysis::analytic::SteadyChannel;
+use crate::analysis::analytic::{StartupCouette, SteadyChannel};
 use crate::analysis::diagnostics;
 use crate::engine::math::Vec2;
 use crate::engine::rheology::{Fluid, Model};
@@ -31,6 +31,8 @@ enum Solution {
         stress_scale: f64,
     },
     Steady(SteadyChannel),
+    /// Start-up plane Couette flow (Newtonian, Oldroyd-B, UCM).
+    Couette(StartupCouette),
     /// Amplitude U e^{−2νk²t}, k = 2π/L.
     TaylorGreen {
         length: f64,
@@ -79,6 +81,28 @@ impl Reference {
         Ok(Self::new(solution, height, u))
     }
 
+    /// Start-up plane Couette flow between walls at y = 0 and `height` sliding at
+    /// `wall_velocity` (x-components), from rest: Newtonian, Oldroyd-B and UCM only.
+    pub fn couette(f: &Fluid, height: f64, wall_velocity: [f64; 2]) -> Result<Self, String> {
+        let (solvent, polymer) = match f.model {
+            Model::Newtonian => (f.viscosity, 0.0),
+            Model::OldroydB | Model::Ucm => (f.beta * f.viscosity, (1.0 - f.beta) * f.viscosity),
+            _ => {
+                return Err("start-up Couette is analytic for Newtonian, Oldroyd-B and UCM".into())
+            }
+        };
+        let series = StartupCouette {
+            density: f.density,
+            solvent_viscosity: solvent,
+            polymer_viscosity: polymer,
+            relaxation_time: f.relaxation_time,
+            height,
+            wall_velocity,
+        };
+        let scale = wall_velocity[0].abs().max(wall_velocity[1].abs());
+        Ok(Self::new(Solution::Couette(series), height, scale))
+    }
+
     /// The decaying Taylor–Green vortex of initial amplitude `amplitude` in a box of side
     /// `length` (Newtonian fluids only).
     pub fn taylor_green(f: &Fluid, length: f64, amplitude: f64) -> Result<Self, String> {
@@ -109,6 +133,7 @@ impl Reference {
         match self.solution {
             Solution::StartUp { .. } => "waters-king",
             Solution::Steady(_) => "steady-channel",
+            Solution::Couette(_) => "startup-couette",
             Solution::TaylorGreen { .. } => "taylor-green",
         }
     }
@@ -146,6 +171,13 @@ impl Reference {
             Solution::Steady(ch) => {
                 for (o, p) in out.iter_mut().zip(positions) {
                     *o = Vec2::new(ch.velocity(p.y), 0.0);
+                }
+            }
+            Solution::Couette(c) => {
+                let ys: Vec<f64> = positions.iter().map(|p| p.y).collect();
+                c.velocity_profile(&ys, t, &mut self.scratch);
+                for (o, u) in out.iter_mut().zip(&self.scratch) {
+                    *o = Vec2::new(*u, 0.0);
                 }
             }
             Solution::TaylorGreen {
@@ -202,6 +234,7 @@ impl Reference {
                 series, time_scale, ..
             } => series.velocity(0.5, t / time_scale) * self.velocity_scale,
             Solution::Steady(ch) => ch.centre_velocity(),
+            Solution::Couette(c) => c.velocity(0.5 * self.height, t),
             Solution::TaylorGreen {
                 amplitude,
                 decay_rate,
@@ -224,6 +257,11 @@ impl Reference {
                     .collect()
             }
             Solution::Steady(ch) => ys.iter().map(|&y| ch.velocity(y)).collect(),
+            Solution::Couette(c) => {
+                let mut out = Vec::new();
+                c.velocity_profile(ys, t, &mut out);
+                out
+            }
             Solution::TaylorGreen { .. } => vec![f64::NAN; ys.len()],
         }
     }
@@ -256,6 +294,12 @@ impl Reference {
                 }
                 Ok(p)
             }
+            Solution::Couette(c) => Ok(StressProfiles {
+                xy: ys.iter().map(|&y| c.shear_stress(y, t)).collect(),
+                // τ_xx = 2λ∫ τ_xy γ̇ e^{..}: not integrated (module docs); τ_yy = 0 exactly.
+                xx: vec![f64::NAN; ys.len()],
+                yy: vec![0.0; ys.len()],
+            }),
             Solution::TaylorGreen { .. } => Err("no stress profiles for Taylor–Green".into()),
         }
     }

@@ -1,9 +1,11 @@
 //! Analytic reference solutions.
 
 pub mod roots;
+pub mod startup_couette;
 pub mod steady_channel;
 pub mod taylor_green;
 pub mod waters_king;
 
+pub use startup_couette::StartupCouette;
 pub use steady_channel::SteadyChannel;
 pub use waters_king::StartupPoiseuille;

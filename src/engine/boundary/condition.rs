@@ -78,3 +78,33 @@ impl WallCondition for NoSlip {
         }
     }
 }
+
+/// A no-slip plane wall sliding along itself at `velocity`: `u_j = 2u_w − u_i`, so that the
+/// velocity on the wall is u_w to second order; pressure and conformation as [`NoSlip`].
+/// The wall velocity must be tangential (a plane wall does not move through the fluid).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SlidingNoSlip {
+    pub tensor: TensorMirror,
+    pub velocity: Vec2,
+}
+
+impl WallCondition for SlidingNoSlip {
+    fn velocity_sign(&self) -> f64 {
+        -1.0
+    }
+
+    fn velocity_offset(&self, _mirror: Vec2) -> Vec2 {
+        2.0 * self.velocity
+    }
+
+    fn moves(&self) -> bool {
+        self.velocity != Vec2::zeros()
+    }
+
+    fn tensor(&self, parent: &Sym2, normal: &Vec2) -> Sym2 {
+        NoSlip {
+            tensor: self.tensor,
+        }
+        .tensor(parent, normal)
+    }
+}

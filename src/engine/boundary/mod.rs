@@ -11,7 +11,7 @@ pub mod condition;
 pub mod inflow;
 pub mod shape;
 
-pub use condition::{NoSlip, TensorMirror, WallCondition};
+pub use condition::{NoSlip, SlidingNoSlip, TensorMirror, WallCondition};
 pub use shape::{Circle, Plane, Shape};
 
 use crate::engine::math::{Sym2, Vec2};
@@ -30,6 +30,17 @@ impl Wall {
         Self {
             shape,
             condition: Arc::new(NoSlip { tensor }),
+        }
+    }
+
+    /// A no-slip wall sliding at `velocity` (zero: [`Self::no_slip`]).
+    pub fn sliding(shape: Shape, tensor: TensorMirror, velocity: Vec2) -> Self {
+        if velocity == Vec2::zeros() {
+            return Self::no_slip(shape, tensor);
+        }
+        Self {
+            shape,
+            condition: Arc::new(SlidingNoSlip { tensor, velocity }),
         }
     }
 
@@ -173,6 +184,19 @@ impl Ghosts {
                 .zip(&self.offset)
                 .for_each(|(u, b)| *u += b);
         }
+    }
+
+    /// Whether some ghost carries a velocity offset b_j (a moving wall).
+    pub fn has_offsets(&self) -> bool {
+        !self.offset.is_empty()
+    }
+
+    /// Zero for the fluid particles followed by the ghosts' offsets b_j: the part of the
+    /// mirror velocities the implicit matrices cannot fold into their parents' columns.
+    pub fn extend_offsets(&self, n_fluid: usize, out: &mut Vec<Vec2>) {
+        out.clear();
+        out.resize(n_fluid, Vec2::zeros());
+        out.extend_from_slice(&self.offset);
     }
 
     /// Fluid pressures followed by the ghosts' `p_j = s_p p_i`.

@@ -6,7 +6,7 @@
 //! ```
 //!
 //! with L the Morris Laplacian (21) and the wall mirrors' no-slip values u_j = −u_i folded
-//! into the matrix. Both velocity components share the matrix; each is solved by
+//! into the matrix (a moving wall's part b_j of u_j = −u_i + b_j goes to the right-hand side). Both velocity components share the matrix; each is solved by
 //! warm-started BiCGStab from u^n plus the previous step's u* − u (sparse-LU fallback). The matrix is diagonally dominant
 //! (an M-matrix in full support), so the solve is cheap, and δt is freed from the viscous
 //! limit ρh²/η0 of (28): see [`super::Viscosity::dt_limit`].
@@ -27,6 +27,9 @@ pub struct ImplicitViscosity {
     component: Vec<f64>,
     /// u* − u^n of the previous step, per particle (empty: none, e.g. after a reorder).
     increment: Vec<Vec2>,
+    /// Moving walls: the mirrors' offsets (extended) and their Laplacian.
+    offsets: Vec<Vec2>,
+    wall_term: Vec<Vec2>,
 }
 
 impl ImplicitViscosity {
@@ -36,6 +39,32 @@ impl ImplicitViscosity {
             + crate::engine::vec_bytes(&self.rhs)
             + crate::engine::vec_bytes(&self.component)
             + crate::engine::vec_bytes(&self.increment)
+            + crate::engine::vec_bytes(&self.offsets)
+            + crate::engine::vec_bytes(&self.wall_term)
+    }
+
+    /// Moving walls: the mirrors' u_j = −u_i + b_j leave δtν Σ_j L_ij b_j over, which joins
+    /// the right-hand side (the Laplacian of the field that is b on the mirrors and 0 on the
+    /// fluid, with the explicit operator's weights, which the matrix shares).
+    fn add_wall_term(
+        &mut self,
+        (list, sums, ghosts): (&NeighbourList, &KernelSums, &Ghosts),
+        nu_dt: f64,
+        rhs: &mut [Vec2],
+        prescribed: &[bool],
+    ) {
+        if !ghosts.has_offsets() {
+            return;
+        }
+        let n = rhs.len();
+        ghosts.extend_offsets(n, &mut self.offsets);
+        self.wall_term.resize(n, Vec2::zeros());
+        sums.laplacian_vector(list, &self.offsets, &mut self.wall_term);
+        for (i, (u, w)) in rhs.iter_mut().zip(&self.wall_term).enumerate() {
+            if !prescribed.get(i).copied().unwrap_or(false) {
+                *u += nu_dt * w;
+            }
+        }
     }
 
     /// Drops the solver's preconditioner and the previous step's increment (indices changed,
@@ -62,6 +91,7 @@ impl ImplicitViscosity {
     ) -> Result<[SolveReport; 2], SolveError> {
         self.matrix
             .assemble(list, sums, ghosts, Field::Velocity, 1.0, -nu_dt, prescribed);
+        self.add_wall_term((list, sums, ghosts), nu_dt, velocity, prescribed);
         let options = SolverOptions {
             relative_tolerance: tolerance,
             absolute_tolerance: 0.0,

@@ -1,5 +1,6 @@
 //! The periodic channel (King & Lind §IV A–B): no-slip walls at y = 0 and y = H, periodic in
-//! x, driven by a body force along x; with a cylinder, the periodic cylinder array.
+//! x, driven by a body force along x and/or by the walls sliding along x (plane Couette
+//! flow); with a cylinder, the periodic cylinder array.
 
 use super::{
     check_box, check_memory, check_periodic_length, finite_force, support_in_dr, Scene, SceneBox,
@@ -39,6 +40,9 @@ pub struct ChannelSpec {
     /// (`body_force` is then the initial guess; see `engine::drive`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mean_flow: Option<f64>,
+    /// The walls' velocities along x, [bottom (y = 0), top (y = H)]: plane Couette flow.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wall_velocity: Option<[f64; 2]>,
 }
 
 /// `[scene.cylinder]`.
@@ -63,6 +67,8 @@ pub struct Channel {
     pub cylinder: Option<Circle>,
     /// The bulk velocity the body force holds (None: a constant force).
     pub mean_flow: Option<f64>,
+    /// Wall velocities along x at y = 0 and y = H.
+    pub wall_velocity: [f64; 2],
 }
 
 impl ChannelSpec {
@@ -70,9 +76,21 @@ impl ChannelSpec {
         check_box(self.length, self.height, self.resolution)?;
         let columns = check_periodic_length(self.length, self.height, self.resolution)?;
         check_memory(columns as f64 * self.resolution as f64)?;
-        let g = self
-            .body_force
-            .ok_or_else(|| field_err("scene.body_force", "required for a channel"))?;
+        let wall_velocity = self.wall_velocity.unwrap_or([0.0, 0.0]);
+        if !wall_velocity.iter().all(|v| v.is_finite()) {
+            return Err(field_err("scene.wall_velocity", "must be finite"));
+        }
+        let sliding = wall_velocity != [0.0, 0.0];
+        let g = match (self.body_force, sliding) {
+            (Some(g), _) => g,
+            (None, true) => [0.0, 0.0],
+            (None, false) => {
+                return Err(field_err(
+                    "scene.body_force",
+                    "required for a channel (or scene.wall_velocity for Couette flow)",
+                ))
+            }
+        };
         let body_force = finite_force(g)?;
         if g[1] != 0.0 {
             return Err(field_err(
@@ -121,6 +139,7 @@ impl ChannelSpec {
             velocity,
             cylinder,
             mean_flow,
+            wall_velocity,
         })
     }
 }
@@ -199,14 +218,15 @@ impl Scene for Channel {
         self.cylinder.map_or(self.bounds.height, |c| c.radius)
     }
 
-    /// The nominal mean velocity with a cylinder; else the Oldroyd-B steady centre-line
-    /// velocity ρgH²/(8η0).
+    /// The nominal mean velocity with a cylinder; else the larger of the Oldroyd-B steady
+    /// centre-line velocity ρgH²/(8η0) and the fastest wall's speed.
     fn velocity_scale(&self, f: &Fluid) -> f64 {
+        let walls = self.wall_velocity[0].abs().max(self.wall_velocity[1].abs());
         match self.cylinder {
             Some(_) => self.velocity,
             None => {
-                f.density * self.body_force.x.abs() * self.bounds.height * self.bounds.height
-                    / (8.0 * f.viscosity)
+                let h = self.bounds.height;
+                (f.density * self.body_force.x.abs() * h * h / (8.0 * f.viscosity)).max(walls)
             }
         }
     }
@@ -225,13 +245,16 @@ impl Scene for Channel {
     fn build(&self, fluid: &Fluid, scheme: &Scheme, scales: Scales) -> Setup {
         let positions = self.positions();
         let wall = |shape| Wall::no_slip(shape, scheme.wall_conformation);
+        let sliding =
+            |shape, u: f64| Wall::sliding(shape, scheme.wall_conformation, Vec2::new(u, 0.0));
+        let top = Plane {
+            axis: 1,
+            position: self.bounds.height,
+            fluid_side: -1.0,
+        };
         let mut walls = vec![
-            wall(Shape::Plane(Plane::floor())),
-            wall(Shape::Plane(Plane {
-                axis: 1,
-                position: self.bounds.height,
-                fluid_side: -1.0,
-            })),
+            sliding(Shape::Plane(Plane::floor()), self.wall_velocity[0]),
+            sliding(Shape::Plane(top), self.wall_velocity[1]),
         ];
         walls.extend(self.cylinder.map(|c| wall(Shape::Circle(c))));
         Setup {
@@ -266,6 +289,12 @@ impl Scene for Channel {
     fn reference(&self, fluid: &Fluid) -> Result<Reference, String> {
         if self.cylinder.is_some() {
             return Err("no analytic solution for flow past a cylinder".into());
+        }
+        if self.wall_velocity != [0.0, 0.0] {
+            if self.body_force.x != 0.0 || self.mean_flow.is_some() {
+                return Err("no analytic solution for combined Couette–Poiseuille flow".into());
+            }
+            return Reference::couette(fluid, self.bounds.height, self.wall_velocity);
         }
         Reference::channel(
             fluid,
