@@ -6,3 +6,4 @@ pub mod centreline;
 pub mod diagnostics;
 pub mod forces;
 pub mod reference;
+pub mod rheometry;

@@ -7,6 +7,7 @@ pub mod cli;
 pub mod compare;
 pub mod io;
 pub mod plot;
+pub mod rheometry;
 pub mod run;
 pub mod study;
 pub mod vtk;

@@ -86,3 +86,15 @@ pub struct RunArgs {
     #[arg(long)]
     pub no_snapshots: bool,
 }
+
+#[derive(Args, Debug)]
+pub struct RheometryArgs {
+    /// The case file (TOML) whose fluid is measured.
+    pub case: PathBuf,
+    /// Override any dotted key of the case file, e.g. `--set fluid.relaxation_time=2`.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Output directory (default: runs/rheometry-<case name>).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}

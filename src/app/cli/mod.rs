@@ -6,7 +6,7 @@ pub mod args;
 use crate::app::run::{self, Outcome, RunOptions};
 use crate::app::study::cli::StudyCommand;
 use crate::setup::case::{self, CaseError};
-use args::{BenchArgs, CaseArgs, CompareArgs, CompareDropsArgs, RunArgs};
+use args::{BenchArgs, CaseArgs, CompareArgs, CompareDropsArgs, RheometryArgs, RunArgs};
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -37,6 +37,9 @@ pub enum Command {
     CompareDrops(CompareDropsArgs),
     /// Time each stage of the step side by side for several sizes of the Poiseuille scene.
     Bench(BenchArgs),
+    /// The case's fluid in homogeneous flows: steady shear, start-up of shear and planar
+    /// extension, oscillatory shear, with the exact curves (CSV and PNG).
+    Rheometry(RheometryArgs),
     /// Run many variants of a case: convergence, stability map, speed against accuracy.
     #[command(subcommand)]
     Study(StudyCommand),
@@ -91,6 +94,15 @@ fn dispatch(cli: Cli) -> anyhow::Result<ExitCode> {
         }
         Command::Study(study) => {
             crate::app::study::cli::dispatch(study, cli.quiet)?;
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Rheometry(args) => {
+            let case = case::load(&args.case, &args.set)?;
+            let out = args
+                .out
+                .clone()
+                .unwrap_or_else(|| PathBuf::from("runs").join(format!("rheometry-{}", case.name)));
+            crate::app::rheometry::run(&case, &out, cli.quiet)?;
             Ok(ExitCode::SUCCESS)
         }
         Command::Bench(args) if args.solvers => {

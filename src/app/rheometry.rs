@@ -1,0 +1,178 @@
+//! `rheosph rheometry <case>`: the fluid of a case in homogeneous flows (see
+//! [`crate::analysis::rheometry`]), to CSV and PNG in one directory:
+//! `steady_shear.csv` (`shear_rate, viscosity, psi1, psi2` and their exact values),
+//! `startup_shear.csv`, `planar_extension.csv` (at λγ̇, λε̇ = 0.1, 1, 10 and 0.1, 0.25, 1)
+//! and `saos.csv` (`omega, g_storage, g_loss` and exact).
+
+use crate::analysis::rheometry::{log_space, Oscillatory, Rheometer, SteadyShear, Transient};
+use crate::app::io::write_atomic;
+use crate::app::plot::{draw, Chart, Curve, CurveStyle, PALETTE};
+use crate::setup::case::Case;
+use anyhow::{Context, Result};
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// Wi = λγ̇ of the start-up shear runs and λε̇ of the planar extension runs.
+const SHEAR_WI: [f64; 3] = [0.1, 1.0, 10.0];
+const EXTENSION_WI: [f64; 3] = [0.1, 0.25, 1.0];
+
+/// Runs every homogeneous flow of `case`'s fluid into `out`.
+pub fn run(case: &Case, out: &Path, quiet: bool) -> Result<()> {
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    let r = Rheometer {
+        fluid: case.fluid,
+        scheme: case.scheme.conformation,
+    };
+    // Rates in units of 1/λ (of 1/s for a Newtonian fluid: λ = 0).
+    let time = if case.fluid.relaxation_time > 0.0 {
+        case.fluid.relaxation_time
+    } else {
+        1.0
+    };
+    let err = |e: String| anyhow::anyhow!("{e}");
+    let rates: Vec<f64> = log_space(1e-2, 1e2, 25).iter().map(|w| w / time).collect();
+    let steady = r.steady_shear(&rates).map_err(err)?;
+    write_steady(out, &steady)?;
+    let mut startup = Vec::new();
+    for wi in SHEAR_WI {
+        startup.push((
+            wi,
+            r.startup_shear(wi / time, 5.0 * time, 200).map_err(err)?,
+        ));
+    }
+    write_transients(out, "startup_shear", &startup, "Start-up of shear", "η⁺")?;
+    let mut extension = Vec::new();
+    for wi in EXTENSION_WI {
+        // λε̇ ≥ ½ grows without bound for Oldroyd-B: a shorter window keeps it finite.
+        let t_end = if wi >= 0.5 { 2.0 * time } else { 5.0 * time };
+        let samples = r.planar_extension(wi / time, t_end, 200).map_err(err)?;
+        extension.push((wi, samples));
+    }
+    write_transients(
+        out,
+        "planar_extension",
+        &extension,
+        "Start-up of planar extension",
+        "η_P⁺",
+    )?;
+    let omegas: Vec<f64> = log_space(1e-2, 1e2, 17).iter().map(|w| w / time).collect();
+    let saos = r.oscillatory(&omegas, 1e-3).map_err(err)?;
+    write_saos(out, &saos)?;
+    if !quiet {
+        eprintln!("rheometry of `{}` written to {}", case.name, out.display());
+    }
+    Ok(())
+}
+
+fn curve(label: &str, points: Vec<(f64, f64)>, style: CurveStyle, k: usize) -> Curve {
+    Curve {
+        label: label.to_string(),
+        points,
+        style,
+        color: PALETTE[k % PALETTE.len()],
+    }
+}
+
+fn log_chart(title: &str, x: &str, y: &str) -> Chart {
+    Chart {
+        title: title.into(),
+        x_label: x.into(),
+        y_label: y.into(),
+        log_x: true,
+        log_y: true,
+        ..Default::default()
+    }
+}
+
+fn write_steady(out: &Path, rows: &[SteadyShear]) -> Result<()> {
+    let mut csv =
+        String::from("shear_rate,viscosity,psi1,psi2,viscosity_exact,psi1_exact,psi2_exact\n");
+    for p in rows {
+        let _ = writeln!(
+            csv,
+            "{:.8e},{:.8e},{:.8e},{:.8e},{:.8e},{:.8e},{:.8e}",
+            p.shear_rate,
+            p.viscosity,
+            p.psi1,
+            p.psi2,
+            p.viscosity_exact,
+            p.psi1_exact,
+            p.psi2_exact
+        );
+    }
+    write_atomic(&out.join("steady_shear.csv"), csv.as_bytes())?;
+    let series = |f: fn(&SteadyShear) -> f64| -> Vec<(f64, f64)> {
+        rows.iter().map(|p| (p.shear_rate, f(p))).collect()
+    };
+    let curves = [
+        curve("η", series(|p| p.viscosity), CurveStyle::Markers, 0),
+        curve(
+            "η exact",
+            series(|p| p.viscosity_exact),
+            CurveStyle::Line,
+            0,
+        ),
+        curve("Ψ₁", series(|p| p.psi1), CurveStyle::Markers, 1),
+        curve("Ψ₁ exact", series(|p| p.psi1_exact), CurveStyle::Line, 1),
+    ];
+    let chart = log_chart("Steady shear", "shear rate", "η, Ψ₁");
+    draw(&out.join("steady_shear.png"), &chart, &curves)
+}
+
+fn write_transients(
+    out: &Path,
+    name: &str,
+    runs: &[(f64, Vec<Transient>)],
+    title: &str,
+    symbol: &str,
+) -> Result<()> {
+    let mut csv = String::from("wi,t,viscosity,psi1,viscosity_exact\n");
+    let mut curves = Vec::new();
+    for (k, (wi, samples)) in runs.iter().enumerate() {
+        for s in samples {
+            let _ = writeln!(
+                csv,
+                "{wi},{:.8e},{:.8e},{:.8e},{:.8e}",
+                s.t, s.viscosity, s.psi1, s.viscosity_exact
+            );
+        }
+        let points = |f: fn(&Transient) -> f64| samples.iter().map(|s| (s.t, f(s))).collect();
+        let label = format!("{symbol}, Wi = {wi}");
+        curves.push(curve(&label, points(|s| s.viscosity), CurveStyle::Line, k));
+        curves.push(curve(
+            "exact",
+            points(|s| s.viscosity_exact),
+            CurveStyle::Dashed,
+            k,
+        ));
+    }
+    write_atomic(&out.join(format!("{name}.csv")), csv.as_bytes())?;
+    let chart = Chart {
+        log_x: false,
+        ..log_chart(title, "t", symbol)
+    };
+    draw(&out.join(format!("{name}.png")), &chart, &curves)
+}
+
+fn write_saos(out: &Path, rows: &[Oscillatory]) -> Result<()> {
+    let mut csv = String::from("omega,g_storage,g_loss,g_storage_exact,g_loss_exact\n");
+    for o in rows {
+        let _ = writeln!(
+            csv,
+            "{:.8e},{:.8e},{:.8e},{:.8e},{:.8e}",
+            o.omega, o.storage, o.loss, o.storage_exact, o.loss_exact
+        );
+    }
+    write_atomic(&out.join("saos.csv"), csv.as_bytes())?;
+    let series = |f: fn(&Oscillatory) -> f64| -> Vec<(f64, f64)> {
+        rows.iter().map(|o| (o.omega, f(o))).collect()
+    };
+    let curves = [
+        curve("G′", series(|o| o.storage), CurveStyle::Markers, 1),
+        curve("G′ exact", series(|o| o.storage_exact), CurveStyle::Line, 1),
+        curve("G″", series(|o| o.loss), CurveStyle::Markers, 2),
+        curve("G″ exact", series(|o| o.loss_exact), CurveStyle::Line, 2),
+    ];
+    let chart = log_chart("Small-amplitude oscillatory shear", "ω", "G′, G″");
+    draw(&out.join("saos.png"), &chart, &curves)
+}
