@@ -300,3 +300,72 @@ fn rheometry_writes_material_functions() {
     assert_eq!(bad.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("fluid.beta"));
 }
+
+/// `run --from DIR` starts from DIR's final state with the new case's parameters: its first
+/// row (t = 0) carries the finished run's last centre-line velocity bit for bit, the clock
+/// restarts, the start-up reference is withdrawn (it describes a fluid at rest), and a scene
+/// that does not match particle for particle is refused with the reason.
+#[test]
+fn run_from_continues_another_runs_final_state() {
+    let dir = tempfile::tempdir().unwrap();
+    let (a, b, c) = (
+        dir.path().join("a"),
+        dir.path().join("b"),
+        dir.path().join("c"),
+    );
+    let run = |out: &Path, extra: &[&str]| {
+        let mut args = vec![
+            "run",
+            "cases/poiseuille.toml",
+            "-q",
+            "--no-snapshots",
+            "--no-charts",
+            "--out",
+            out.to_str().unwrap(),
+            "--set",
+            "run.end_time=0.3",
+        ];
+        args.extend_from_slice(extra);
+        rheosph(&args)
+    };
+    let first = run(&a, &["--set", "scene.resolution=12"]);
+    assert!(first.status.success());
+    assert!(a.join("final_state.bin").exists());
+    let from = a.to_str().unwrap();
+    let next = run(
+        &b,
+        &[
+            "--set",
+            "scene.resolution=12",
+            "--set",
+            "fluid.relaxation_time=2",
+            "--from",
+            from,
+        ],
+    );
+    assert!(
+        next.status.success(),
+        "{}",
+        String::from_utf8_lossy(&next.stderr)
+    );
+    let field = |d: &Path, row: usize, col: usize| -> String {
+        let text = std::fs::read_to_string(d.join("series.csv")).unwrap();
+        let line = if row == usize::MAX {
+            text.lines().last().unwrap().to_string()
+        } else {
+            text.lines().nth(row).unwrap().to_string()
+        };
+        line.split(',').nth(col).unwrap().to_string()
+    };
+    assert_eq!(
+        field(&a, usize::MAX, 3),
+        field(&b, 1, 3),
+        "u_centre carried over"
+    );
+    assert_eq!(field(&b, 1, 0).parse::<f64>().unwrap(), 0.0);
+    let summary = std::fs::read_to_string(b.join("summary.json")).unwrap();
+    assert!(summary.contains("start-up solution does not apply"));
+    let wrong = run(&c, &["--set", "scene.resolution=14", "--from", from]);
+    assert!(!wrong.status.success());
+    assert!(String::from_utf8_lossy(&wrong.stderr).contains("144 particles stored"));
+}

@@ -84,6 +84,30 @@ pub fn field_stats(
     }
 }
 
+/// Where det A is smallest: the position of the first particle holding the minimum (NaN
+/// without a conformation). Tells a breakdown's place, e.g. the first particle layer at a
+/// wall.
+pub fn min_det_location(position: &[Vec2], conformation: &[Sym2]) -> Vec2 {
+    let best = conformation
+        .par_iter()
+        .enumerate()
+        .map(|(i, a)| (a.det(), i))
+        .reduce(
+            || (f64::INFINITY, usize::MAX),
+            |x, y| {
+                if y.0 < x.0 || (y.0 == x.0 && y.1 < x.1) {
+                    y
+                } else {
+                    x
+                }
+            },
+        );
+    position
+        .get(best.1)
+        .copied()
+        .unwrap_or(Vec2::new(f64::NAN, f64::NAN))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

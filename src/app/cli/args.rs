@@ -76,6 +76,10 @@ pub struct RunArgs {
     /// Continue the run in DIR from its last checkpoint (the case and options it ran with).
     #[arg(long, value_name = "DIR")]
     pub resume: Option<PathBuf>,
+    /// Start from the final state of the finished run in DIR (its final_state.bin) with this
+    /// case's parameters, e.g. `--from runs/wi1 --set fluid.relaxation_time=2` for a Wi ramp.
+    #[arg(long, value_name = "DIR", conflicts_with = "resume")]
+    pub from: Option<PathBuf>,
     /// Output directory (default: runs/<case name>).
     #[arg(long, value_name = "DIR", conflicts_with = "resume")]
     pub out: Option<PathBuf>,

@@ -83,7 +83,10 @@ fn dispatch(cli: Cli) -> anyhow::Result<ExitCode> {
                         .out
                         .clone()
                         .unwrap_or_else(|| PathBuf::from("runs").join(&case.name));
-                    run::run(&case, &options(out_dir))?
+                    match &args.from {
+                        Some(from) => run::continue_from(&case, &options(out_dir), from)?,
+                        None => run::run(&case, &options(out_dir))?,
+                    }
                 }
                 (None, None) => anyhow::bail!("a case file or --resume DIR is required"),
             };

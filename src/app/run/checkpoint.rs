@@ -290,6 +290,8 @@ pub fn read(path: &Path, sim: &mut Simulation) -> Result<(), CheckpointError> {
 }
 
 /// The checkpoint file of a run directory.
+/// A finished run's final state, in the simulation encoding of [`encode`], for `run --from`.
+pub const FINAL_STATE_FILE: &str = "final_state.bin";
 pub const CHECKPOINT_FILE: &str = "checkpoint.bin";
 
 /// The run loop's own state, saved with each checkpoint.

@@ -23,8 +23,8 @@ pub use summary::{Outcome, PpeSummary, Summary};
 use crate::app::io;
 use crate::setup::case::Case;
 use anyhow::{Context, Result};
-use run_loop::{Resumed, Run};
-use std::path::PathBuf;
+use run_loop::{Resumed, Run, Start};
+use std::path::{Path, PathBuf};
 
 /// Options of a run that are not physics.
 #[derive(Clone, Debug)]
@@ -44,7 +44,31 @@ pub use checkpoint::CHECKPOINT_FILE;
 
 /// Runs a case to its end time or breakdown and writes the run directory.
 pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
-    run_from(case, options, None)
+    run_from(case, options, Start::Fresh)
+}
+
+/// Runs `case` from the final state of the run in `from` (its `final_state.bin`): positions,
+/// velocities, pressure and conformation carried over, this case's parameters (e.g. a new
+/// λ for a Wi ramp) and a clock from t = 0. The scenes must match particle for particle
+/// (count, spacing, frame, viscoelastic or not); a constant body force is this case's, a
+/// mean-flow controller keeps the force it had reached.
+pub fn continue_from(case: &Case, options: &RunOptions, from: &Path) -> Result<Summary> {
+    let path = from.join(checkpoint::FINAL_STATE_FILE);
+    anyhow::ensure!(
+        path.exists(),
+        "{} has no {} (a run that finished writes one)",
+        from.display(),
+        checkpoint::FINAL_STATE_FILE
+    );
+    let mut sim = crate::engine::step::Simulation::new(case.setup());
+    checkpoint::read(&path, &mut sim)
+        .map_err(|e| anyhow::anyhow!("continuing from {}: {e}", path.display()))?;
+    sim.state.time = 0.0;
+    sim.state.steps = 0;
+    if !case.scene.holds_mean_flow() {
+        sim.state.body_force = case.scene.body_force();
+    }
+    run_from(case, options, Start::Continued(Box::new(sim)))
 }
 
 /// Continues the run in `options.out_dir` from its last checkpoint (`checkpoint.bin`, with the
@@ -69,14 +93,18 @@ pub fn resume(options: &RunOptions) -> Result<Summary> {
         .into_iter()
         .filter(|r| r.step <= sim.state.steps)
         .collect();
-    run_from(&case, options, Some(Resumed { sim, state, rows }))
+    run_from(
+        &case,
+        options,
+        Start::Resumed(Box::new(Resumed { sim, state, rows })),
+    )
 }
 
-fn run_from(case: &Case, options: &RunOptions, resumed: Option<Resumed>) -> Result<Summary> {
+fn run_from(case: &Case, options: &RunOptions, start: Start) -> Result<Summary> {
     if !options.quiet {
         summary::report_start(case, &case.derived());
     }
-    let mut run = Run::new(case, options, resumed)?;
+    let mut run = Run::new(case, options, start)?;
     run.time_loop()?;
     run.finish()
 }

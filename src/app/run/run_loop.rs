@@ -3,7 +3,7 @@
 
 use super::cadence::Cadence;
 use super::charts;
-use super::checkpoint::{self, LoopState, CHECKPOINT_FILE};
+use super::checkpoint::{self, LoopState, CHECKPOINT_FILE, FINAL_STATE_FILE};
 use super::errors;
 use super::probes::Probes;
 use super::series;
@@ -42,6 +42,17 @@ pub struct Run<'a> {
     last_flush: Instant,
 }
 
+/// How a run starts.
+pub enum Start {
+    /// From the case's initial state.
+    Fresh,
+    /// Continued from its own checkpoint.
+    Resumed(Box<Resumed>),
+    /// From another run's final state (`run --from DIR`), with this case's parameters; the
+    /// clock starts at t = 0.
+    Continued(Box<Simulation>),
+}
+
 /// A run continued from its checkpoint.
 pub struct Resumed {
     pub sim: Simulation,
@@ -51,10 +62,16 @@ pub struct Resumed {
 
 impl<'a> Run<'a> {
     /// Prepares the run directory and the run's state (fresh, or from a checkpoint).
-    pub fn new(case: &'a Case, options: &'a RunOptions, resumed: Option<Resumed>) -> Result<Self> {
+    pub fn new(case: &'a Case, options: &'a RunOptions, start: Start) -> Result<Self> {
         let dir = &options.out_dir;
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-        let reference = case.scene.reference(&case.fluid);
+        let reference = match (case.scene.reference(&case.fluid), &start) {
+            (Ok(r), Start::Continued(_)) if !r.is_steady() => Err(
+                "continued from another run's state: the start-up solution does not apply"
+                    .to_string(),
+            ),
+            (r, _) => r,
+        };
         if let (Err(why), false) = (&reference, options.quiet) {
             eprintln!("  no analytic reference: {why}");
         }
@@ -82,9 +99,13 @@ impl<'a> Run<'a> {
             start: Instant::now(),
             last_flush: Instant::now(),
         };
-        match resumed {
-            Some(r) => run.resume(r)?,
-            None => run.begin()?,
+        match start {
+            Start::Resumed(r) => run.resume(*r)?,
+            Start::Fresh => run.begin()?,
+            Start::Continued(sim) => {
+                run.sim = *sim;
+                run.begin()?;
+            }
         }
         Ok(run)
     }
@@ -93,6 +114,7 @@ impl<'a> Run<'a> {
     fn begin(&mut self) -> Result<()> {
         let dir = &self.options.out_dir;
         let _ = std::fs::remove_file(dir.join(CHECKPOINT_FILE));
+        let _ = std::fs::remove_file(dir.join(FINAL_STATE_FILE));
         io::write_atomic(
             &dir.join(CASE_FILE),
             toml::to_string(&self.case.source)?.as_bytes(),
@@ -294,6 +316,10 @@ impl<'a> Run<'a> {
             .timers
             .add(Stage::Output, t0.elapsed().as_secs_f64());
         let summary = self.summary(errors, probes);
+        if self.breakdown.is_none() && self.sim.inflow.is_none() {
+            // The state another run can start from (`run --from DIR`).
+            checkpoint::write(&dir.join(FINAL_STATE_FILE), &self.sim)?;
+        }
         io::write_json(&dir.join("summary.json"), &summary)?;
         if !self.options.quiet {
             summary::report_end(&summary, &dir);

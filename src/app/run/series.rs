@@ -24,6 +24,7 @@ pub fn row(
         sim.fluid.density,
         sim.particle_volume(),
     );
+    let where_min_det = diagnostics::min_det_location(&s.position, &s.conformation);
     let (u_centre_exact, l2_error) = match reference {
         Some(r) => (
             r.characteristic_velocity(s.time),
@@ -52,5 +53,7 @@ pub fn row(
         k_polymer: f64::NAN,
         body_force: s.body_force.x,
         elastic_courant: window.max_elastic_courant,
+        min_det_a_x: where_min_det.x,
+        min_det_a_y: where_min_det.y,
     }
 }
