@@ -48,3 +48,19 @@ fn amg_run_follows_the_jacobi_run() {
         "AMG {amg_iterations} vs Jacobi {jacobi_iterations} iterations per step"
     );
 }
+
+/// `summary.json` reports the implicit viscous solve's iterations per step (x and y
+/// together), and none for the explicit term.
+#[test]
+fn summary_reports_viscous_iterations() {
+    for (viscosity, expect_some) in [("implicit", true), ("explicit", false)] {
+        let case = poiseuille(&[
+            "scene.resolution=12",
+            "run.end_time=0.05",
+            &format!("scheme.viscosity={viscosity}"),
+        ]);
+        let (s, _dir) = common::run_quiet(&case, false);
+        let it = s.ppe.viscous_mean_iterations;
+        assert_eq!(it > 0.0, expect_some, "{viscosity}: {it}");
+    }
+}

@@ -43,4 +43,6 @@ pub struct StepReport {
     /// δt c/h with c the shear-wave speed of the stretched polymer (0 without polymer): the
     /// number the elastic limit bounds (see `engine::viscosity::elastic_limit`).
     pub elastic_courant: f64,
+    /// BiCGStab iterations of the implicit viscous solve, both components (0 if explicit).
+    pub viscous_iterations: usize,
 }

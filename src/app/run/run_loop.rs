@@ -363,6 +363,8 @@ impl<'a> Run<'a> {
                 max_relative_residual: totals.max_residual,
                 absolute_floor_stops: totals.floor_stops,
                 matrix_nonzeros: sim.ppe_nonzeros(),
+                viscous_mean_iterations: totals.viscous_iterations as f64
+                    / totals.steps.max(1) as f64,
             },
             neighbour_pairs_per_particle: sim.neighbour_pairs() as f64 / particles as f64,
             probes,

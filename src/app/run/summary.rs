@@ -34,6 +34,9 @@ pub struct PpeSummary {
     /// residual can be O(1) by design.
     pub absolute_floor_stops: u64,
     pub matrix_nonzeros: usize,
+    /// Mean BiCGStab iterations per step of the implicit viscous solve (x and y together;
+    /// 0 with explicit viscosity).
+    pub viscous_mean_iterations: f64,
 }
 
 /// `summary.json`.
@@ -84,11 +87,15 @@ pub struct PpeWindow {
     /// The largest elastic Courant number δt c/h of a step.
     #[serde(default)]
     pub max_elastic_courant: f64,
+    /// Implicit viscous BiCGStab iterations (both components).
+    #[serde(default)]
+    pub viscous_iterations: u64,
 }
 
 impl PpeWindow {
     pub fn add(&mut self, step: &crate::engine::step::StepReport) {
         self.max_elastic_courant = self.max_elastic_courant.max(step.elastic_courant);
+        self.viscous_iterations += step.viscous_iterations as u64;
         let r = &step.ppe;
         self.steps += 1;
         self.iterations += r.iterations as u64;

@@ -259,7 +259,7 @@ impl Simulation {
         self.neighbourhoods();
         self.kinematics(dt);
         self.constitutive_update(dt);
-        self.predictor(dt)?;
+        let viscous_iterations = self.predictor(dt)?;
         let ppe = self.pressure_poisson(dt)?;
         self.projection(dt);
         self.final_positions(dt);
@@ -278,6 +278,7 @@ impl Simulation {
             dt,
             ppe,
             elastic_courant: dt * wave_speed / self.kernel.h(),
+            viscous_iterations,
         })
     }
 
@@ -348,7 +349,8 @@ impl Simulation {
     }
 
     /// Step 4: the predictor u*, eq. (24), with the viscous term explicit or implicit.
-    fn predictor(&mut self, dt: f64) -> Result<(), Breakdown> {
+    /// Returns the implicit solve's BiCGStab iterations (both components; 0 if explicit).
+    fn predictor(&mut self, dt: f64) -> Result<usize, Breakdown> {
         let (st, s) = (&mut self.stages, &self.state);
         let inv_rho = 1.0 / self.fluid.density;
         let body_force = s.body_force;
@@ -372,7 +374,8 @@ impl Simulation {
         let prescribed = self.inflow.as_ref().map_or(Vec2::zeros(), |b| b.velocity);
         let nu_dt = st.nu * dt;
         let preconditioner = self.scheme.ppe.preconditioner;
-        self.timers
+        let reports = self
+            .timers
             .time(Stage::Viscous, || {
                 st.viscous.solve(
                     st.hood.parts(),
@@ -386,7 +389,7 @@ impl Simulation {
             .map_err(|e| Breakdown {
                 reason: format!("implicit viscous solve failed: {e}"),
             })?;
-        Ok(())
+        Ok(reports.map_or(0, |[x, y]| x.iterations + y.iterations))
     }
 
     /// Step 5: the pressure Poisson equation (25), with Dirichlet rows on a free surface.
