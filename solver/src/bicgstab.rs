@@ -125,25 +125,7 @@ impl BiCgStabWorkspace {
             NullSpace::Constant => mean_abs_diagonal(a) / n as f64,
         };
         let op = Operator { a, rank_one };
-        match options.preconditioner {
-            Preconditioner::Jacobi => {
-                self.amg = None;
-                jacobi(a, rank_one, &mut self.inv_diag);
-            }
-            Preconditioner::Amg => {
-                let stale = self.amg.as_ref().is_none_or(|m| m.rows() != n)
-                    || (!options.matrix_unchanged && self.amg_age >= AMG_MAX_AGE);
-                if stale && off_diagonal_ratio(a) < WEAK_COUPLING {
-                    // Jacobi contracts by this ratio or better per iteration already.
-                    self.amg = None;
-                    jacobi(a, rank_one, &mut self.inv_diag);
-                } else if stale {
-                    let singular = options.null_space == NullSpace::Constant;
-                    self.amg = Some(Amg::setup(a, singular));
-                    self.amg_age = 0;
-                }
-            }
-        }
+        self.choose_preconditioner(a, options, rank_one);
         if options.null_space == NullSpace::Constant {
             remove_mean(x, &mut self.partials);
         }
@@ -189,6 +171,25 @@ impl BiCgStabWorkspace {
             converged: converged && relative_residual.is_finite(),
             iterations,
             relative_residual,
+        }
+    }
+
+    /// Keeps, builds or drops the AMG hierarchy; Jacobi's diagonal whenever there is none.
+    fn choose_preconditioner(&mut self, a: &CsMat<f64>, options: &SolverOptions, rank_one: f64) {
+        let stale = self.amg.as_ref().is_none_or(|m| m.rows() != a.rows())
+            || (!options.matrix_unchanged && self.amg_age >= AMG_MAX_AGE);
+        let wanted = options.preconditioner == Preconditioner::Amg;
+        if wanted && !stale {
+            return;
+        }
+        // A weakly coupled matrix: Jacobi contracts by its ratio or better per iteration.
+        if wanted && off_diagonal_ratio(a) >= WEAK_COUPLING {
+            let singular = options.null_space == NullSpace::Constant;
+            self.amg = Some(Amg::setup(a, singular));
+            self.amg_age = 0;
+        } else {
+            self.amg = None;
+            jacobi(a, rank_one, &mut self.inv_diag);
         }
     }
 

@@ -32,7 +32,10 @@ enum Solution {
     },
     Steady(SteadyChannel),
     /// Start-up plane Couette flow (Newtonian, Oldroyd-B, UCM).
-    Couette(StartupCouette),
+    Couette {
+        series: StartupCouette,
+        heights: Vec<f64>,
+    },
     /// Amplitude U e^{−2νk²t}, k = 2π/L.
     TaylorGreen {
         length: f64,
@@ -84,23 +87,23 @@ impl Reference {
     /// Start-up plane Couette flow between walls at y = 0 and `height` sliding at
     /// `wall_velocity` (x-components), from rest: Newtonian, Oldroyd-B and UCM only.
     pub fn couette(f: &Fluid, height: f64, wall_velocity: [f64; 2]) -> Result<Self, String> {
-        let (solvent, polymer) = match f.model {
-            Model::Newtonian => (f.viscosity, 0.0),
-            Model::OldroydB | Model::Ucm => (f.beta * f.viscosity, (1.0 - f.beta) * f.viscosity),
-            _ => {
-                return Err("start-up Couette is analytic for Newtonian, Oldroyd-B and UCM".into())
-            }
-        };
+        if !matches!(f.model, Model::Newtonian | Model::OldroydB | Model::Ucm) {
+            return Err("start-up Couette is analytic for Newtonian, Oldroyd-B and UCM".into());
+        }
         let series = StartupCouette {
             density: f.density,
-            solvent_viscosity: solvent,
-            polymer_viscosity: polymer,
+            solvent_viscosity: f.solvent_viscosity(),
+            polymer_viscosity: f.polymer_viscosity(),
             relaxation_time: f.relaxation_time,
             height,
             wall_velocity,
         };
         let scale = wall_velocity[0].abs().max(wall_velocity[1].abs());
-        Ok(Self::new(Solution::Couette(series), height, scale))
+        let solution = Solution::Couette {
+            series,
+            heights: Vec::new(),
+        };
+        Ok(Self::new(solution, height, scale))
     }
 
     /// The decaying Taylor–Green vortex of initial amplitude `amplitude` in a box of side
@@ -133,7 +136,7 @@ impl Reference {
         match self.solution {
             Solution::StartUp { .. } => "waters-king",
             Solution::Steady(_) => "steady-channel",
-            Solution::Couette(_) => "startup-couette",
+            Solution::Couette { .. } => "startup-couette",
             Solution::TaylorGreen { .. } => "taylor-green",
         }
     }
@@ -173,9 +176,10 @@ impl Reference {
                     *o = Vec2::new(ch.velocity(p.y), 0.0);
                 }
             }
-            Solution::Couette(c) => {
-                let ys: Vec<f64> = positions.iter().map(|p| p.y).collect();
-                c.velocity_profile(&ys, t, &mut self.scratch);
+            Solution::Couette { series, heights } => {
+                heights.clear();
+                heights.extend(positions.iter().map(|p| p.y));
+                series.velocity_profile(heights, t, &mut self.scratch);
                 for (o, u) in out.iter_mut().zip(&self.scratch) {
                     *o = Vec2::new(*u, 0.0);
                 }
@@ -234,7 +238,7 @@ impl Reference {
                 series, time_scale, ..
             } => series.velocity(0.5, t / time_scale) * self.velocity_scale,
             Solution::Steady(ch) => ch.centre_velocity(),
-            Solution::Couette(c) => c.velocity(0.5 * self.height, t),
+            Solution::Couette { series, .. } => series.velocity(0.5 * self.height, t),
             Solution::TaylorGreen {
                 amplitude,
                 decay_rate,
@@ -257,9 +261,9 @@ impl Reference {
                     .collect()
             }
             Solution::Steady(ch) => ys.iter().map(|&y| ch.velocity(y)).collect(),
-            Solution::Couette(c) => {
+            Solution::Couette { series, .. } => {
                 let mut out = Vec::new();
-                c.velocity_profile(ys, t, &mut out);
+                series.velocity_profile(ys, t, &mut out);
                 out
             }
             Solution::TaylorGreen { .. } => vec![f64::NAN; ys.len()],
@@ -294,8 +298,8 @@ impl Reference {
                 }
                 Ok(p)
             }
-            Solution::Couette(c) => Ok(StressProfiles {
-                xy: ys.iter().map(|&y| c.shear_stress(y, t)).collect(),
+            Solution::Couette { series, .. } => Ok(StressProfiles {
+                xy: ys.iter().map(|&y| series.shear_stress(y, t)).collect(),
                 // τ_xx = 2λ∫ τ_xy γ̇ e^{..}: not integrated (module docs); τ_yy = 0 exactly.
                 xx: vec![f64::NAN; ys.len()],
                 yy: vec![0.0; ys.len()],

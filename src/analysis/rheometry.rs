@@ -19,7 +19,7 @@
 //! The update is first order in δt (the splitting of (29)); δt = 10⁻³ of the flow's shortest
 //! time (λ, 1/γ̇, 1/ε̇, 1/ω), so that the splitting error stays near 10⁻³.
 
-use crate::analysis::analytic::steady_channel::steady_shear_conformation;
+use crate::analysis::analytic::steady_channel::steady_shear_stress;
 use crate::engine::math::{Mat2, Sym2};
 use crate::engine::rheology::{direct_step, log_conformation_step, ConformationScheme};
 use crate::engine::rheology::{Fluid, Model};
@@ -87,13 +87,14 @@ impl Rheometer {
         }
     }
 
-    /// A after `t_end` of `grad(t)` from rest, calling `sample(t, A)` after every step.
+    /// A after `t_end` of `grad(t)` from rest, in steps of about `dt` (a whole number of them),
+    /// calling `sample(t, δt, A)` after every step.
     fn integrate(
         &self,
         grad: impl Fn(f64) -> Mat2,
         t_end: f64,
         dt: f64,
-        mut sample: impl FnMut(f64, &Sym2),
+        mut sample: impl FnMut(f64, f64, &Sym2),
     ) -> Result<Sym2, String> {
         let steps = (t_end / dt).ceil().max(1.0) as usize;
         let dt = t_end / steps as f64;
@@ -104,7 +105,7 @@ impl Rheometer {
             if !(a.xx.is_finite() && a.xy.is_finite() && a.yy.is_finite()) {
                 return Err(format!("the conformation diverged at t = {:.4e}", t + dt));
             }
-            sample(t + dt, &a);
+            sample(t + dt, dt, &a);
         }
         Ok(a)
     }
@@ -118,12 +119,12 @@ impl Rheometer {
                 let tau = if self.viscoelastic() {
                     let lambda = self.lambda();
                     let dt = lambda.min(1.0 / rate) / STEPS_PER_TIME;
-                    let a = self.integrate(|_| shear(rate), 20.0 * lambda, dt, |_, _| {})?;
+                    let a = self.integrate(|_| shear(rate), 20.0 * lambda, dt, |_, _, _| {})?;
                     f.polymer_stress(&a)
                 } else {
                     Sym2::ZERO
                 };
-                let exact = exact_steady_stress(f, rate);
+                let exact = steady_shear_stress(f, rate).ok();
                 let (eta_s, g2) = (self.solvent(), rate * rate);
                 Ok(SteadyShear {
                     shear_rate: rate,
@@ -138,13 +139,9 @@ impl Rheometer {
             .collect()
     }
 
-    /// The solvent viscosity (η0 for a Newtonian fluid).
+    /// The solvent viscosity (η0 for a Newtonian fluid, whose β is 1).
     fn solvent(&self) -> f64 {
-        if self.fluid.model.is_viscoelastic() {
-            self.fluid.solvent_viscosity()
-        } else {
-            self.fluid.viscosity
-        }
+        self.fluid.solvent_viscosity()
     }
 
     /// Start-up of shear at `rate` to `t_end`, `samples` samples.
@@ -222,7 +219,7 @@ impl Rheometer {
         let every = ((t_end / dt) as usize / samples.max(1)).max(1);
         let mut out = Vec::new();
         let mut k = 0;
-        self.integrate(grad, t_end, dt, |t, a| {
+        self.integrate(grad, t_end, dt, |t, _, a| {
             k += 1;
             if k % every == 0 {
                 out.push(record(t, &self.fluid.polymer_stress(a)));
@@ -251,13 +248,11 @@ impl Rheometer {
             let (mut s, mut c) = (0.0, 0.0);
             let start = t_end - period;
             let rate = move |t: f64| strain * omega * (omega * t).cos();
-            let steps = (t_end / dt).ceil();
-            let h = t_end / steps;
             self.integrate(
                 |t| shear(rate(t)),
                 t_end,
                 dt,
-                |t, a| {
+                |t, h, a| {
                     if t > start + 0.5 * h {
                         let tau = self.fluid.polymer_stress(a).xy;
                         s += tau * (omega * t).sin() * h;
@@ -302,16 +297,6 @@ impl Rheometer {
 /// ∇u of simple shear u = (γ̇y, 0).
 fn shear(rate: f64) -> Mat2 {
     Mat2::new(0.0, rate, 0.0, 0.0)
-}
-
-/// The exact steady polymer stress at `rate`, None where the model has none there.
-fn exact_steady_stress(f: &Fluid, rate: f64) -> Option<Sym2> {
-    if !f.model.is_viscoelastic() {
-        return Some(Sym2::ZERO);
-    }
-    steady_shear_conformation(&f.model, f.relaxation_time * rate)
-        .ok()
-        .map(|a| f.polymer_stress(&a))
 }
 
 /// `count` values from `low` to `high`, evenly spaced in log.

@@ -83,18 +83,9 @@ impl StartupCouette {
 
     /// u(y, t).
     pub fn velocity(&self, y: f64, t: f64) -> f64 {
-        let [ub, ut] = self.wall_velocity;
-        let base = ub + (ut - ub) * y / self.height;
-        if t <= 0.0 {
-            return if y <= 0.0 || y >= self.height {
-                base
-            } else {
-                0.0
-            };
-        }
-        base + (1..=MODES)
-            .map(|n| self.mode(n, t).0 * (self.wavenumber(n) * y).sin())
-            .sum::<f64>()
+        let mut u = Vec::with_capacity(1);
+        self.velocity_profile(&[y], t, &mut u);
+        u[0]
     }
 
     /// The polymer shear stress τ_p,xy(y, t) (0 for a Newtonian fluid).
