@@ -54,7 +54,7 @@ fn vtu_snapshot_round_trips_through_a_vtk_reader() {
     }
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("s.vtu");
-    std::fs::write(&path, rheosph::app::vtk::snapshot(&sim).unwrap()).unwrap();
+    std::fs::write(&path, rheosph::app::vtk::snapshot(&sim)).unwrap();
     let vtk = vtkio::Vtk::import(&path).expect("vtkio reads our .vtu");
     let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
         panic!("not an unstructured grid")
@@ -93,7 +93,7 @@ fn vtu_snapshot_round_trips_through_a_vtk_reader() {
 }
 
 /// Every file of a run directory parses: series.csv, summary.json (if present), every .vtu
-/// listed in snapshots.pvd.
+/// listed in snapshots.pvd and every .vti in grid.pvd.
 fn assert_readable(dir: &Path) {
     if dir.join("series.csv").exists() {
         rheosph::app::io::read_series(&dir.join("series.csv")).expect("series.csv parses");
@@ -102,8 +102,11 @@ fn assert_readable(dir: &Path) {
         let text = std::fs::read_to_string(dir.join("summary.json")).unwrap();
         serde_json::from_str::<serde_json::Value>(&text).expect("summary.json parses");
     }
-    if dir.join("snapshots.pvd").exists() {
-        let pvd = std::fs::read_to_string(dir.join("snapshots.pvd")).unwrap();
+    for collection in ["snapshots.pvd", "grid.pvd"] {
+        if !dir.join(collection).exists() {
+            continue;
+        }
+        let pvd = std::fs::read_to_string(dir.join(collection)).unwrap();
         assert!(pvd.trim_end().ends_with("</VTKFile>"), "truncated .pvd");
         for file in pvd
             .split("file=\"")

@@ -5,5 +5,6 @@ pub mod analytic;
 pub mod centreline;
 pub mod diagnostics;
 pub mod forces;
+pub mod grid;
 pub mod reference;
 pub mod rheometry;

@@ -228,6 +228,9 @@ pub struct RunSpec {
     /// Time between checkpoints (`checkpoint.bin`, for `rheosph run --resume`; default
     /// end_time/10).
     pub checkpoint_interval: Option<f64>,
+    /// Node spacing of the grid snapshots (`.vti`) written with every `.vtu` one (default: the
+    /// particle spacing).
+    pub grid_spacing: Option<f64>,
     /// Stop once steady, after averaging (channels with a cylinder).
     pub steady: Option<SteadySpec>,
 }

@@ -45,6 +45,8 @@ pub struct Case {
     pub output_interval: f64,
     pub snapshot_interval: f64,
     pub checkpoint_interval: f64,
+    /// Node spacing of grid snapshots; None: the particle spacing.
+    pub grid_spacing: Option<f64>,
     pub steady: Option<SteadyCriterion>,
     /// The file as given (after overrides), echoed into the run summary.
     pub source: CaseFile,
@@ -93,6 +95,7 @@ pub fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
         output_interval: run.output_interval,
         snapshot_interval: run.snapshot_interval,
         checkpoint_interval: run.checkpoint_interval,
+        grid_spacing: run.grid_spacing,
         steady: run.steady,
         source: raw,
     })
@@ -270,6 +273,7 @@ struct Run {
     output_interval: f64,
     snapshot_interval: f64,
     checkpoint_interval: f64,
+    grid_spacing: Option<f64>,
     steady: Option<SteadyCriterion>,
 }
 
@@ -282,6 +286,10 @@ fn run(r: &RunSpec, scene: &dyn Scene) -> Result<Run, FieldError> {
     let output_interval = interval("run.output_interval", r.output_interval, 300.0)?;
     let snapshot_interval = interval("run.snapshot_interval", r.snapshot_interval, 20.0)?;
     let checkpoint_interval = interval("run.checkpoint_interval", r.checkpoint_interval, 10.0)?;
+    let grid_spacing = r
+        .grid_spacing
+        .map(|h| positive("run.grid_spacing", h))
+        .transpose()?;
     let steady = match &r.steady {
         None => None,
         Some(st) => {
@@ -315,6 +323,7 @@ fn run(r: &RunSpec, scene: &dyn Scene) -> Result<Run, FieldError> {
         output_interval,
         snapshot_interval,
         checkpoint_interval,
+        grid_spacing,
         steady,
     })
 }

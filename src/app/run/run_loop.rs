@@ -77,15 +77,17 @@ impl<'a> Run<'a> {
         }
         // A previous run's summary must not survive to describe this one.
         let _ = std::fs::remove_file(dir.join("summary.json"));
+        let sim = Simulation::new(case.setup());
         let snapshots = if options.snapshots {
-            Some(vtk::Series::new(dir)?)
+            let grid_spacing = case.grid_spacing.unwrap_or(sim.spacing);
+            Some(vtk::Series::new(dir, Some(grid_spacing))?)
         } else {
             None
         };
         let mut run = Self {
             case,
             options,
-            sim: Simulation::new(case.setup()),
+            sim,
             reference,
             rows: Vec::new(),
             cadence: Cadence::new(case),
