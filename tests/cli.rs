@@ -85,6 +85,64 @@ fn run_writes_series_summary_and_charts() {
     }
 }
 
+/// `--figure-format svg` writes the same charts as the PNG run, as SVG documents with the
+/// same titles and legends (text elements), and no PNG.
+#[test]
+fn figure_format_svg_writes_the_same_charts_as_svg() {
+    let dir = tempfile::tempdir().unwrap();
+    let case = write_case(dir.path(), "p.toml", POISEUILLE);
+    let charts = |format: &str| -> Vec<String> {
+        let out = dir.path().join(format);
+        let o = rheosph(&[
+            "run",
+            &case,
+            "-q",
+            "--no-snapshots",
+            "--figure-format",
+            format,
+            "--out",
+            out.to_str().unwrap(),
+            "--set",
+            "scene.resolution=12",
+            "--set",
+            "run.end_time=0.05",
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let mut names: Vec<String> = std::fs::read_dir(&out)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|e| e == "png" || e == "svg"))
+            .map(|p| p.to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names
+    };
+    let png = charts("png");
+    let svg = charts("svg");
+    assert!(png.len() >= 4 && png.iter().all(|p| p.ends_with(".png")));
+    let stems = |v: &[String]| -> Vec<String> {
+        v.iter()
+            .map(|p| {
+                Path::new(p)
+                    .file_stem()
+                    .unwrap()
+                    .to_string_lossy()
+                    .into_owned()
+            })
+            .collect()
+    };
+    assert_eq!(stems(&png), stems(&svg));
+    for file in &svg {
+        let text = std::fs::read_to_string(file).unwrap();
+        assert!(
+            text.starts_with("<svg") && text.trim_end().ends_with("</svg>"),
+            "{file}"
+        );
+    }
+    let centre = std::fs::read_to_string(dir.path().join("svg/centre_velocity.svg")).unwrap();
+    assert!(centre.contains("Centre-line velocity") && centre.contains("Waters"));
+}
+
 /// Each mistake is answered by exactly one line naming the file and the field, exit code 2.
 #[test]
 fn bad_input_is_one_clear_line_and_exit_code_2() {

@@ -24,7 +24,7 @@ fn series_with_threads(threads: usize, extra: &[&str]) -> String {
             &RunOptions {
                 out_dir: dir.path().to_path_buf(),
                 quiet: true,
-                charts: false,
+                charts: None,
                 snapshots: false,
             },
         )

@@ -1,6 +1,7 @@
 //! Studies end to end at a coarse, short scale: their CSV and PNG files exist and parse, and
 //! a forced breakdown is a row of data, not a crash.
 
+use rheosph::app::plot::FigureFormat;
 use rheosph::app::study::{self, Base};
 use std::path::PathBuf;
 
@@ -25,6 +26,7 @@ fn convergence_study_writes_its_table_and_figures() {
         &[12, 24],
         &["lagrangian".to_string(), "eulerian".to_string()],
         out.path(),
+        FigureFormat::Png,
         2,
         true,
     )
@@ -56,6 +58,7 @@ fn stability_study_records_a_forced_breakdown() {
         &varies,
         0.1,
         out.path(),
+        FigureFormat::Png,
         1,
         true,
     )
@@ -80,6 +83,7 @@ fn speed_accuracy_study_marks_a_pareto_front() {
         &[12, 24],
         &varies,
         out.path(),
+        FigureFormat::Png,
         1,
         true,
     )

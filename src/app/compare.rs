@@ -2,6 +2,7 @@
 //! `profile.csv`, each with its analytic curve: e.g. Giesekus velocity profiles for several
 //! α), or the width and height histories of drops (their `drop.csv`).
 
+use crate::app::plot::FigureFormat;
 use crate::app::plot::{self, Chart, Curve, CurveStyle, PALETTE};
 use anyhow::{Context, Result};
 use std::path::{Path, PathBuf};
@@ -101,6 +102,7 @@ pub fn compare_profiles(
     }
     plot::draw(
         out,
+        FigureFormat::of_path(out),
         &Chart {
             title: title.to_string(),
             x_label: "y".into(),
@@ -168,6 +170,7 @@ pub fn compare_drops(runs: &[PathBuf], labels: &[String], title: &str, out: &Pat
     }
     plot::draw(
         out,
+        FigureFormat::of_path(out),
         &Chart {
             title: title.into(),
             x_label: "t* = tU/W".into(),

@@ -1,12 +1,63 @@
-//! PNG charts drawn with plotters (bitmap backend, bundled DejaVu font: no system fonts).
+//! Charts drawn with plotters as PNG (bitmap backend) or SVG, the same drawing code for
+//! both; the bundled DejaVu font measures the text, so no system fonts are needed.
 //!
 //! Files are rendered to a temporary name and renamed, so a chart on disk is always whole.
 
 use anyhow::{Context, Result};
+use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::FontStyle;
 use std::path::Path;
 use std::sync::Once;
+
+/// The file format of every chart a command writes (`--figure-format`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum FigureFormat {
+    #[default]
+    Png,
+    /// Vector graphics, for papers: the same content as the PNG.
+    Svg,
+}
+
+impl FigureFormat {
+    pub fn extension(self) -> &'static str {
+        match self {
+            FigureFormat::Png => "png",
+            FigureFormat::Svg => "svg",
+        }
+    }
+
+    /// The format a file name asks for: SVG for `.svg`, else PNG.
+    pub fn of_path(path: &Path) -> Self {
+        match path.extension() {
+            Some(e) if e.eq_ignore_ascii_case("svg") => FigureFormat::Svg,
+            _ => FigureFormat::Png,
+        }
+    }
+}
+
+/// Renders through a `draw` function generic over the backend into a temporary file beside
+/// `path` (its extension replaced by the format's), then renames it into place.
+fn render(
+    path: &Path,
+    format: FigureFormat,
+    size: (u32, u32),
+    draw: impl Fn(DrawingArea<BitMapBackend, Shift>) -> Result<()>,
+    draw_svg: impl Fn(DrawingArea<SVGBackend, Shift>) -> Result<()>,
+) -> Result<()> {
+    register_fonts();
+    let path = path.with_extension(format.extension());
+    let file_name = path
+        .file_name()
+        .context("chart path has no file name")?
+        .to_string_lossy();
+    let tmp = path.with_file_name(format!(".{file_name}.tmp.{}", format.extension()));
+    match format {
+        FigureFormat::Png => draw(BitMapBackend::new(&tmp, size).into_drawing_area())?,
+        FigureFormat::Svg => draw_svg(SVGBackend::new(&tmp, size).into_drawing_area())?,
+    }
+    std::fs::rename(&tmp, &path).with_context(|| format!("renaming {}", tmp.display()))
+}
 
 /// How a curve is drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -71,9 +122,9 @@ fn transform(v: f64, log: bool) -> Option<f64> {
     }
 }
 
-/// Draws `curves` to a PNG at `path` (800×560).
-pub fn draw(path: &Path, chart: &Chart, curves: &[Curve]) -> Result<()> {
-    register_fonts();
+/// Draws `curves` to `path` (800×560) in `format`; the extension of `path` is replaced by
+/// the format's.
+pub fn draw(path: &Path, format: FigureFormat, chart: &Chart, curves: &[Curve]) -> Result<()> {
     let data: Vec<Vec<(f64, f64)>> = curves
         .iter()
         .map(|c| {
@@ -110,71 +161,82 @@ pub fn draw(path: &Path, chart: &Chart, curves: &[Curve]) -> Result<()> {
     };
     let (y0, y1) = chart.y_range.unwrap_or((y0 - pad, y1 + pad));
 
-    let file_name = path
-        .file_name()
-        .context("chart path has no file name")?
-        .to_string_lossy();
-    let tmp = path.with_file_name(format!(".{file_name}.tmp.png"));
-    {
-        let root = BitMapBackend::new(&tmp, (800, 560)).into_drawing_area();
-        root.fill(&WHITE)?;
-        let mut cc = ChartBuilder::on(&root)
-            .caption(&chart.title, ("sans-serif", 22))
-            .margin(12)
-            .x_label_area_size(45)
-            .y_label_area_size(70)
-            .build_cartesian_2d(x0..x1, y0..y1)?;
-        let (log_x, log_y) = (chart.log_x, chart.log_y);
-        let fmt = move |v: &f64, log: bool| {
-            if log {
-                format!("{:.2e}", 10f64.powf(*v))
-            } else {
-                format!("{v:.3}")
+    let ranges = (x0..x1, y0..y1);
+    render(
+        path,
+        format,
+        (800, 560),
+        |root| draw_curves(root, chart, curves, &data, ranges.clone()),
+        |root| draw_curves(root, chart, curves, &data, ranges.clone()),
+    )
+}
+
+fn draw_curves<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    chart: &Chart,
+    curves: &[Curve],
+    data: &[Vec<(f64, f64)>],
+    (xs, ys): (std::ops::Range<f64>, std::ops::Range<f64>),
+) -> Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE)?;
+    let mut cc = ChartBuilder::on(&root)
+        .caption(&chart.title, ("sans-serif", 22))
+        .margin(12)
+        .x_label_area_size(45)
+        .y_label_area_size(70)
+        .build_cartesian_2d(xs, ys)?;
+    let (log_x, log_y) = (chart.log_x, chart.log_y);
+    let fmt = move |v: &f64, log: bool| {
+        if log {
+            format!("{:.2e}", 10f64.powf(*v))
+        } else {
+            format!("{v:.3}")
+        }
+    };
+    cc.configure_mesh()
+        .x_desc(&chart.x_label)
+        .y_desc(&chart.y_label)
+        .x_label_formatter(&|v| fmt(v, log_x))
+        .y_label_formatter(&|v| fmt(v, log_y))
+        .label_style(("sans-serif", 14))
+        .draw()?;
+    for (curve, pts) in curves.iter().zip(data) {
+        let color = curve.color;
+        let series = match curve.style {
+            CurveStyle::Line => {
+                cc.draw_series(LineSeries::new(pts.iter().copied(), color.stroke_width(2)))?
+            }
+            CurveStyle::Dashed => cc.draw_series(DashedLineSeries::new(
+                pts.iter().copied(),
+                8,
+                5,
+                color.stroke_width(2),
+            ))?,
+            CurveStyle::Markers => {
+                cc.draw_series(pts.iter().map(|&p| Circle::new(p, 4, color.filled())))?
             }
         };
-        cc.configure_mesh()
-            .x_desc(&chart.x_label)
-            .y_desc(&chart.y_label)
-            .x_label_formatter(&|v| fmt(v, log_x))
-            .y_label_formatter(&|v| fmt(v, log_y))
-            .label_style(("sans-serif", 14))
-            .draw()?;
-        for (curve, pts) in curves.iter().zip(&data) {
-            let color = curve.color;
-            let series = match curve.style {
-                CurveStyle::Line => {
-                    cc.draw_series(LineSeries::new(pts.iter().copied(), color.stroke_width(2)))?
-                }
-                CurveStyle::Dashed => cc.draw_series(DashedLineSeries::new(
-                    pts.iter().copied(),
-                    8,
-                    5,
-                    color.stroke_width(2),
-                ))?,
-                CurveStyle::Markers => {
-                    cc.draw_series(pts.iter().map(|&p| Circle::new(p, 4, color.filled())))?
-                }
-            };
-            if !curve.label.is_empty() {
-                series.label(curve.label.clone()).legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-                });
-            }
+        if !curve.label.is_empty() {
+            series.label(curve.label.clone()).legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+            });
         }
-        if curves.iter().any(|c| !c.label.is_empty()) {
-            cc.configure_series_labels()
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .label_font(("sans-serif", 14))
-                .position(SeriesLabelPosition::UpperRight)
-                .draw()?;
-        }
-        if let Some(note) = &chart.note {
-            root.draw_text(note, &("sans-serif", 16).into_text_style(&root), (90, 45))?;
-        }
-        root.present()?;
     }
-    std::fs::rename(&tmp, path).with_context(|| format!("renaming {}", tmp.display()))?;
+    if curves.iter().any(|c| !c.label.is_empty()) {
+        cc.configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 14))
+            .position(SeriesLabelPosition::UpperRight)
+            .draw()?;
+    }
+    if let Some(note) = &chart.note {
+        root.draw_text(note, &("sans-serif", 16).into_text_style(&root), (90, 45))?;
+    }
+    root.present()?;
     Ok(())
 }
 
@@ -236,9 +298,8 @@ pub fn colour_map(t: f64, diverging: bool) -> RGBColor {
     }
 }
 
-/// Draws a particle field with a colour bar to a PNG at `path`.
-pub fn draw_field(path: &Path, field: &Field) -> Result<()> {
-    register_fonts();
+/// Draws a particle field with a colour bar to `path` in `format` (extension replaced).
+pub fn draw_field(path: &Path, format: FigureFormat, field: &Field) -> Result<()> {
     let finite = field.values.iter().copied().filter(|v| v.is_finite());
     let (mut lo, mut hi) = finite.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
         (a.min(v), b.max(v))
@@ -259,65 +320,76 @@ pub fn draw_field(path: &Path, field: &Field) -> Result<()> {
     let plot_h = ((plot_w as f64 - 110.0) * h / w + 90.0)
         .round()
         .clamp(200.0, 1400.0) as u32;
-    let file_name = path
-        .file_name()
-        .context("chart path has no file name")?
-        .to_string_lossy();
-    let tmp = path.with_file_name(format!(".{file_name}.tmp.png"));
-    {
-        let root = BitMapBackend::new(&tmp, (plot_w + 110, plot_h)).into_drawing_area();
-        root.fill(&WHITE)?;
-        let (left, right) = root.split_horizontally(plot_w);
-        let mut cc = ChartBuilder::on(&left)
-            .caption(&field.title, ("sans-serif", 20))
-            .margin(10)
-            .x_label_area_size(35)
-            .y_label_area_size(45)
-            .build_cartesian_2d(x0..x1, y0..y1)?;
-        cc.configure_mesh()
-            .disable_mesh()
-            .label_style(("sans-serif", 13))
-            .draw()?;
-        let half = 0.5 * field.spacing;
-        cc.draw_series(field.points.iter().zip(field.values).map(|(&(x, y), &v)| {
-            let c = colour_map((v - lo) / (hi - lo), field.diverging);
-            Rectangle::new([(x - half, y - half), (x + half, y + half)], c.filled())
-        }))?;
-        if let Some(((cx, cy), r)) = field.disc {
-            let ring: Vec<(f64, f64)> = (0..=180)
-                .map(|k| {
-                    let a = 2.0 * std::f64::consts::PI * k as f64 / 180.0;
-                    (cx + r * a.cos(), cy + r * a.sin())
-                })
-                .collect();
-            cc.draw_series(std::iter::once(Polygon::new(
-                ring,
-                RGBColor(160, 160, 160).filled(),
-            )))?;
-        }
-        // Colour bar.
-        let bar = ChartBuilder::on(&right)
-            .margin_top(45)
-            .margin_bottom(45)
-            .margin_right(10)
-            .y_label_area_size(70)
-            .build_cartesian_2d(0.0..1.0, lo..hi);
-        let mut bar = bar?;
-        bar.configure_mesh()
-            .disable_mesh()
-            .disable_x_axis()
-            .y_label_formatter(&|v| format!("{v:.3e}"))
-            .label_style(("sans-serif", 12))
-            .draw()?;
-        let steps = 100;
-        bar.draw_series((0..steps).map(|k| {
-            let a = lo + (hi - lo) * k as f64 / steps as f64;
-            let b = lo + (hi - lo) * (k + 1) as f64 / steps as f64;
-            let c = colour_map((k as f64 + 0.5) / steps as f64, field.diverging);
-            Rectangle::new([(0.0, a), (1.0, b)], c.filled())
-        }))?;
-        root.present()?;
+    let size = (plot_w + 110, plot_h);
+    render(
+        path,
+        format,
+        size,
+        |root| draw_particles(root, field, plot_w, (lo, hi)),
+        |root| draw_particles(root, field, plot_w, (lo, hi)),
+    )
+}
+
+fn draw_particles<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    field: &Field,
+    plot_w: u32,
+    (lo, hi): (f64, f64),
+) -> Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    let ((x0, x1), (y0, y1)) = field.extent;
+    root.fill(&WHITE)?;
+    let (left, right) = root.split_horizontally(plot_w);
+    let mut cc = ChartBuilder::on(&left)
+        .caption(&field.title, ("sans-serif", 20))
+        .margin(10)
+        .x_label_area_size(35)
+        .y_label_area_size(45)
+        .build_cartesian_2d(x0..x1, y0..y1)?;
+    cc.configure_mesh()
+        .disable_mesh()
+        .label_style(("sans-serif", 13))
+        .draw()?;
+    let half = 0.5 * field.spacing;
+    cc.draw_series(field.points.iter().zip(field.values).map(|(&(x, y), &v)| {
+        let c = colour_map((v - lo) / (hi - lo), field.diverging);
+        Rectangle::new([(x - half, y - half), (x + half, y + half)], c.filled())
+    }))?;
+    if let Some(((cx, cy), r)) = field.disc {
+        let ring: Vec<(f64, f64)> = (0..=180)
+            .map(|k| {
+                let a = 2.0 * std::f64::consts::PI * k as f64 / 180.0;
+                (cx + r * a.cos(), cy + r * a.sin())
+            })
+            .collect();
+        cc.draw_series(std::iter::once(Polygon::new(
+            ring,
+            RGBColor(160, 160, 160).filled(),
+        )))?;
     }
-    std::fs::rename(&tmp, path).with_context(|| format!("renaming {}", tmp.display()))?;
+    // Colour bar.
+    let bar = ChartBuilder::on(&right)
+        .margin_top(45)
+        .margin_bottom(45)
+        .margin_right(10)
+        .y_label_area_size(70)
+        .build_cartesian_2d(0.0..1.0, lo..hi);
+    let mut bar = bar?;
+    bar.configure_mesh()
+        .disable_mesh()
+        .disable_x_axis()
+        .y_label_formatter(&|v| format!("{v:.3e}"))
+        .label_style(("sans-serif", 12))
+        .draw()?;
+    let steps = 100;
+    bar.draw_series((0..steps).map(|k| {
+        let a = lo + (hi - lo) * k as f64 / steps as f64;
+        let b = lo + (hi - lo) * (k + 1) as f64 / steps as f64;
+        let c = colour_map((k as f64 + 0.5) / steps as f64, field.diverging);
+        Rectangle::new([(0.0, a), (1.0, b)], c.filled())
+    }))?;
+    root.present()?;
     Ok(())
 }

@@ -6,6 +6,7 @@
 
 use crate::analysis::rheometry::{log_space, Oscillatory, Rheometer, SteadyShear, Transient};
 use crate::app::io::write_atomic;
+use crate::app::plot::FigureFormat;
 use crate::app::plot::{draw, Chart, Curve, CurveStyle, PALETTE};
 use crate::setup::case::Case;
 use anyhow::{Context, Result};
@@ -17,7 +18,7 @@ const SHEAR_WI: [f64; 3] = [0.1, 1.0, 10.0];
 const EXTENSION_WI: [f64; 3] = [0.1, 0.25, 1.0];
 
 /// Runs every homogeneous flow of `case`'s fluid into `out`.
-pub fn run(case: &Case, out: &Path, quiet: bool) -> Result<()> {
+pub fn run(case: &Case, out: &Path, format: FigureFormat, quiet: bool) -> Result<()> {
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
     let r = Rheometer {
         fluid: case.fluid,
@@ -32,7 +33,7 @@ pub fn run(case: &Case, out: &Path, quiet: bool) -> Result<()> {
     let err = |e: String| anyhow::anyhow!("{e}");
     let rates: Vec<f64> = log_space(1e-2, 1e2, 25).iter().map(|w| w / time).collect();
     let steady = r.steady_shear(&rates).map_err(err)?;
-    write_steady(out, &steady)?;
+    write_steady(out, format, &steady)?;
     let mut startup = Vec::new();
     for wi in SHEAR_WI {
         startup.push((
@@ -40,7 +41,14 @@ pub fn run(case: &Case, out: &Path, quiet: bool) -> Result<()> {
             r.startup_shear(wi / time, 5.0 * time, 200).map_err(err)?,
         ));
     }
-    write_transients(out, "startup_shear", &startup, "Start-up of shear", "η⁺")?;
+    write_transients(
+        out,
+        format,
+        "startup_shear",
+        &startup,
+        "Start-up of shear",
+        "η⁺",
+    )?;
     let mut extension = Vec::new();
     for wi in EXTENSION_WI {
         // λε̇ ≥ ½ grows without bound for Oldroyd-B: a shorter window keeps it finite.
@@ -50,6 +58,7 @@ pub fn run(case: &Case, out: &Path, quiet: bool) -> Result<()> {
     }
     write_transients(
         out,
+        format,
         "planar_extension",
         &extension,
         "Start-up of planar extension",
@@ -57,7 +66,7 @@ pub fn run(case: &Case, out: &Path, quiet: bool) -> Result<()> {
     )?;
     let omegas: Vec<f64> = log_space(1e-2, 1e2, 17).iter().map(|w| w / time).collect();
     let saos = r.oscillatory(&omegas, 1e-3).map_err(err)?;
-    write_saos(out, &saos)?;
+    write_saos(out, format, &saos)?;
     if !quiet {
         eprintln!("rheometry of `{}` written to {}", case.name, out.display());
     }
@@ -84,7 +93,7 @@ fn log_chart(title: &str, x: &str, y: &str) -> Chart {
     }
 }
 
-fn write_steady(out: &Path, rows: &[SteadyShear]) -> Result<()> {
+fn write_steady(out: &Path, format: FigureFormat, rows: &[SteadyShear]) -> Result<()> {
     let mut csv =
         String::from("shear_rate,viscosity,psi1,psi2,viscosity_exact,psi1_exact,psi2_exact\n");
     for p in rows {
@@ -116,11 +125,12 @@ fn write_steady(out: &Path, rows: &[SteadyShear]) -> Result<()> {
         curve("Ψ₁ exact", series(|p| p.psi1_exact), CurveStyle::Line, 1),
     ];
     let chart = log_chart("Steady shear", "shear rate", "η, Ψ₁");
-    draw(&out.join("steady_shear.png"), &chart, &curves)
+    draw(&out.join("steady_shear.png"), format, &chart, &curves)
 }
 
 fn write_transients(
     out: &Path,
+    format: FigureFormat,
     name: &str,
     runs: &[(f64, Vec<Transient>)],
     title: &str,
@@ -151,10 +161,10 @@ fn write_transients(
         log_x: false,
         ..log_chart(title, "t", symbol)
     };
-    draw(&out.join(format!("{name}.png")), &chart, &curves)
+    draw(&out.join(format!("{name}.png")), format, &chart, &curves)
 }
 
-fn write_saos(out: &Path, rows: &[Oscillatory]) -> Result<()> {
+fn write_saos(out: &Path, format: FigureFormat, rows: &[Oscillatory]) -> Result<()> {
     let mut csv = String::from("omega,g_storage,g_loss,g_storage_exact,g_loss_exact\n");
     for o in rows {
         let _ = writeln!(
@@ -174,5 +184,5 @@ fn write_saos(out: &Path, rows: &[Oscillatory]) -> Result<()> {
         curve("G″ exact", series(|o| o.loss_exact), CurveStyle::Line, 2),
     ];
     let chart = log_chart("Small-amplitude oscillatory shear", "ω", "G′, G″");
-    draw(&out.join("saos.png"), &chart, &curves)
+    draw(&out.join("saos.png"), format, &chart, &curves)
 }

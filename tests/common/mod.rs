@@ -21,7 +21,7 @@ pub fn run_quiet(case: &Case, charts: bool) -> (Summary, tempfile::TempDir) {
         &RunOptions {
             out_dir: PathBuf::from(dir.path()),
             quiet: true,
-            charts,
+            charts: charts.then_some(rheosph::app::plot::FigureFormat::Png),
             snapshots: false,
         },
     )

@@ -86,6 +86,9 @@ pub struct RunArgs {
     /// Skip the PNG charts.
     #[arg(long)]
     pub no_charts: bool,
+    /// The charts' file format (the same content either way).
+    #[arg(long, value_enum, default_value = "png")]
+    pub figure_format: crate::app::plot::FigureFormat,
     /// Skip the .vtu snapshots.
     #[arg(long)]
     pub no_snapshots: bool,
@@ -101,4 +104,7 @@ pub struct RheometryArgs {
     /// Output directory (default: runs/rheometry-<case name>).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+    /// The charts' file format.
+    #[arg(long, value_enum, default_value = "png")]
+    pub figure_format: crate::app::plot::FigureFormat,
 }

@@ -72,7 +72,7 @@ fn dispatch(cli: Cli) -> anyhow::Result<ExitCode> {
             let options = |out_dir: PathBuf| RunOptions {
                 out_dir,
                 quiet: cli.quiet,
-                charts: !args.no_charts,
+                charts: (!args.no_charts).then_some(args.figure_format),
                 snapshots: !args.no_snapshots,
             };
             let summary = match (&args.resume, &args.case) {
@@ -105,7 +105,7 @@ fn dispatch(cli: Cli) -> anyhow::Result<ExitCode> {
                 .out
                 .clone()
                 .unwrap_or_else(|| PathBuf::from("runs").join(format!("rheometry-{}", case.name)));
-            crate::app::rheometry::run(&case, &out, cli.quiet)?;
+            crate::app::rheometry::run(&case, &out, args.figure_format, cli.quiet)?;
             Ok(ExitCode::SUCCESS)
         }
         Command::Bench(args) if args.solvers => {

@@ -4,6 +4,7 @@
 use super::errors::ExactStresses;
 use crate::analysis::reference::Reference;
 use crate::app::io::SeriesRow;
+use crate::app::plot::FigureFormat;
 use crate::app::plot::{self, Chart, Curve, CurveStyle, PALETTE};
 use crate::engine::step::Simulation;
 use crate::setup::scenes::Scene;
@@ -22,6 +23,7 @@ fn analytic(points: Vec<(f64, f64)>) -> Curve {
 /// Draws every chart of the run directory.
 pub fn draw(
     dir: &Path,
+    format: FigureFormat,
     scene: &dyn Scene,
     sim: &Simulation,
     reference: Option<&Reference>,
@@ -53,6 +55,7 @@ pub fn draw(
     }
     plot::draw(
         &dir.join("centre_velocity.png"),
+        format,
         &Chart {
             title: format!("{title} ({})", sim.fluid.model.name()),
             x_label: "t".into(),
@@ -64,6 +67,7 @@ pub fn draw(
     if reference.is_some() {
         plot::draw(
             &dir.join("l2_error.png"),
+            format,
             &Chart {
                 title: "Velocity L2 error".into(),
                 x_label: "t".into(),
@@ -80,7 +84,7 @@ pub fn draw(
         )?;
     }
     if scene.varies_across_height() {
-        profiles(dir, sim, reference, stresses)
+        profiles(dir, format, sim, reference, stresses)
     } else {
         Ok(())
     }
@@ -89,6 +93,7 @@ pub fn draw(
 /// Final profiles across the channel: every particle against the analytic line.
 fn profiles(
     dir: &Path,
+    format: FigureFormat,
     sim: &Simulation,
     reference: Option<&Reference>,
     stresses: Option<&ExactStresses>,
@@ -109,6 +114,7 @@ fn profiles(
             });
             plot::draw(
                 &dir.join(name),
+                format,
                 &Chart {
                     title: format!("{label} across the channel at t = {:.3}", s.time),
                     x_label: "y".into(),
@@ -183,6 +189,7 @@ fn profiles(
 /// tr A fields.
 pub fn cylinder(
     dir: &Path,
+    format: FigureFormat,
     sim: &Simulation,
     rows: &[SeriesRow],
     profile: &[[f64; 4]],
@@ -197,6 +204,7 @@ pub fn cylinder(
     let time_chart = |name: &str, title: &str, y: &str, f: &dyn Fn(&SeriesRow) -> f64| {
         plot::draw(
             &dir.join(name),
+            format,
             &Chart {
                 title: title.into(),
                 x_label: "t".into(),
@@ -232,6 +240,7 @@ pub fn cylinder(
     ] {
         plot::draw(
             &dir.join(name),
+            format,
             &Chart {
                 title: title.into(),
                 x_label: "s (0: downstream edge of a cylinder)".into(),
@@ -247,6 +256,7 @@ pub fn cylinder(
     let t = sim.state.time;
     plot::draw_field(
         &dir.join("field_vorticity.png"),
+        format,
         &plot::Field {
             title: format!("Vorticity, t = {t:.3}"),
             points: &points,
@@ -260,6 +270,7 @@ pub fn cylinder(
     let trace = trace_a(sim);
     plot::draw_field(
         &dir.join("field_trace_a.png"),
+        format,
         &plot::Field {
             title: format!("tr A, t = {t:.3}"),
             points: &points,
@@ -274,7 +285,13 @@ pub fn cylinder(
 
 /// A PNG of a free-surface scene's particles coloured by tr A, cropped to the fluid's bounding
 /// box (two spacings of margin) from the plate up: `dir/name`.
-pub fn free_surface_snapshot(dir: &Path, sim: &Simulation, title: &str, name: &str) -> Result<()> {
+pub fn free_surface_snapshot(
+    dir: &Path,
+    format: FigureFormat,
+    sim: &Simulation,
+    title: &str,
+    name: &str,
+) -> Result<()> {
     let points: Vec<(f64, f64)> = sim.state.position.iter().map(|p| (p.x, p.y)).collect();
     let trace = trace_a(sim);
     let margin = 2.0 * sim.spacing;
@@ -285,6 +302,7 @@ pub fn free_surface_snapshot(dir: &Path, sim: &Simulation, title: &str, name: &s
     std::fs::create_dir_all(dir)?;
     plot::draw_field(
         &dir.join(name),
+        format,
         &plot::Field {
             title: title.into(),
             points: &points,

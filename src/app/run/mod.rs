@@ -32,8 +32,8 @@ pub struct RunOptions {
     pub out_dir: PathBuf,
     /// No progress bar, no start-up report.
     pub quiet: bool,
-    /// Skip the PNG charts (studies draw their own).
-    pub charts: bool,
+    /// The charts' format; None: no charts (studies draw their own).
+    pub charts: Option<crate::app::plot::FigureFormat>,
     /// Write `.vtu` snapshots every `run.snapshot_interval`.
     pub snapshots: bool,
 }

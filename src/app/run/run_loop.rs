@@ -214,7 +214,7 @@ impl<'a> Run<'a> {
         }
         let t0 = Instant::now();
         series.write(&self.sim)?;
-        if self.options.charts && self.case.scene.has_free_surface() {
+        if let (Some(format), true) = (self.options.charts, self.case.scene.has_free_surface()) {
             // Drops in t* = tU/W, jets in seconds.
             let (title, name) = match self.case.scene.drop_shape() {
                 Some(d) => {
@@ -230,7 +230,7 @@ impl<'a> Run<'a> {
                 ),
             };
             let dir = self.options.out_dir.join("snapshots");
-            charts::free_surface_snapshot(&dir, &self.sim, &title, &name)?;
+            charts::free_surface_snapshot(&dir, format, &self.sim, &title, &name)?;
         }
         self.sim
             .timers
@@ -304,9 +304,11 @@ impl<'a> Run<'a> {
             errors::profile_csv(&self.sim, self.reference.as_mut().ok(), stresses.as_ref());
         io::write_atomic(&dir.join("profile.csv"), profile.as_bytes())?;
         let scene = self.case.scene.as_ref();
-        if charts && scene.cylinder().is_none() && !scene.has_free_surface() {
+        let plain = scene.cylinder().is_none() && !scene.has_free_surface();
+        if let (Some(format), true) = (charts, plain) {
             charts::draw(
                 &dir,
+                format,
                 scene,
                 &self.sim,
                 self.reference.as_ref().ok(),

@@ -42,6 +42,9 @@ pub struct StudyCommon {
     /// depend on it.
     #[arg(long, default_value_t = 1)]
     pub jobs: usize,
+    /// The charts' file format.
+    #[arg(long, value_enum, default_value = "png")]
+    pub figure_format: crate::app::plot::FigureFormat,
 }
 
 #[derive(Args, Debug)]
@@ -100,8 +103,15 @@ pub fn dispatch(command: StudyCommand, quiet: bool) -> Result<()> {
     match command {
         StudyCommand::Convergence(a) => {
             let (base, out) = base_and_out(&a.common, "convergence")?;
-            let rows =
-                convergence::run(&base, &a.resolutions, &a.frames, &out, a.common.jobs, quiet)?;
+            let rows = convergence::run(
+                &base,
+                &a.resolutions,
+                &a.frames,
+                &out,
+                a.common.figure_format,
+                a.common.jobs,
+                quiet,
+            )?;
             if !quiet {
                 for r in &rows {
                     eprintln!(
@@ -119,7 +129,7 @@ pub fn dispatch(command: StudyCommand, quiet: bool) -> Result<()> {
         StudyCommand::Stability(a) => {
             let (base, out) = base_and_out(&a.common, "stability")?;
             if a.replot {
-                stability::replot(&out, a.accuracy)?;
+                stability::replot(&out, a.common.figure_format, a.accuracy)?;
                 return Ok(());
             }
             let varies = a
@@ -133,6 +143,7 @@ pub fn dispatch(command: StudyCommand, quiet: bool) -> Result<()> {
                 &varies,
                 a.accuracy,
                 &out,
+                a.common.figure_format,
                 a.common.jobs,
                 quiet,
             )?;
@@ -150,8 +161,15 @@ pub fn dispatch(command: StudyCommand, quiet: bool) -> Result<()> {
                 .iter()
                 .map(|v| parse_vary(v))
                 .collect::<Result<Vec<_>, _>>()?;
-            let points =
-                speed_accuracy::run(&base, &a.resolutions, &varies, &out, a.common.jobs, quiet)?;
+            let points = speed_accuracy::run(
+                &base,
+                &a.resolutions,
+                &varies,
+                &out,
+                a.common.figure_format,
+                a.common.jobs,
+                quiet,
+            )?;
             if !quiet {
                 for p in &points {
                     eprintln!(
@@ -177,6 +195,7 @@ pub fn dispatch(command: StudyCommand, quiet: bool) -> Result<()> {
                 &a.wi,
                 reference.as_deref(),
                 &out,
+                a.common.figure_format,
                 a.common.jobs,
                 quiet,
             )?;

@@ -3,6 +3,7 @@
 //! log–log axes with the fitted order, and `convergence.csv`.
 
 use super::{fitted_order, run_all, Base, Finished, Variant};
+use crate::app::plot::FigureFormat;
 use crate::app::plot::{self, Chart, Curve, CurveStyle, PALETTE};
 use anyhow::Result;
 use std::fmt::Write as _;
@@ -28,6 +29,7 @@ pub fn run(
     resolutions: &[usize],
     frames: &[String],
     out: &Path,
+    format: FigureFormat,
     jobs: usize,
     quiet: bool,
 ) -> Result<Vec<Row>> {
@@ -65,7 +67,7 @@ pub fn run(
         );
     }
     crate::app::io::write_atomic(&out.join("convergence.csv"), csv.as_bytes())?;
-    charts(&finished, &rows, frames, out)?;
+    charts(&finished, &rows, frames, out, format)?;
     Ok(rows)
 }
 
@@ -105,7 +107,13 @@ fn table(finished: &[Finished], frames: &[String]) -> Vec<Row> {
     rows
 }
 
-fn charts(finished: &[Finished], rows: &[Row], frames: &[String], out: &Path) -> Result<()> {
+fn charts(
+    finished: &[Finished],
+    rows: &[Row],
+    frames: &[String],
+    out: &Path,
+    format: FigureFormat,
+) -> Result<()> {
     let mut curves = Vec::new();
     for (k, f) in finished.iter().enumerate() {
         let eulerian = f.variant.tags.iter().any(|(_, v)| v == "eulerian");
@@ -122,6 +130,7 @@ fn charts(finished: &[Finished], rows: &[Row], frames: &[String], out: &Path) ->
     }
     plot::draw(
         &out.join("l2_vs_time.png"),
+        format,
         &Chart {
             title: "Velocity L2 error against time".into(),
             x_label: "t".into(),
@@ -153,6 +162,7 @@ fn charts(finished: &[Finished], rows: &[Row], frames: &[String], out: &Path) ->
     }
     plot::draw(
         &out.join("l2_vs_resolution.png"),
+        format,
         &Chart {
             title: "Convergence of the velocity L2 error".into(),
             x_label: "dr / H".into(),

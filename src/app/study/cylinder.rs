@@ -4,6 +4,7 @@
 //! (u/⟨u⟩, τ_xx/(η_s⟨u⟩/R), det A) and K against Wi, beside published values if given.
 
 use super::{run_all, Base, Variant};
+use crate::app::plot::FigureFormat;
 use crate::app::plot::{self, Chart, Curve, CurveStyle, PALETTE};
 use anyhow::{Context, Result};
 use plotters::style::RGBColor;
@@ -60,6 +61,7 @@ pub fn run(
     wis: &[f64],
     reference: Option<&[(f64, f64)]>,
     out: &Path,
+    format: FigureFormat,
     jobs: usize,
     quiet: bool,
 ) -> Result<Vec<Row>> {
@@ -119,6 +121,19 @@ pub fn run(
         profiles.push((wi, points));
     }
     crate::app::io::write_atomic(&out.join("cylinder.csv"), csv(&rows).as_bytes())?;
+    charts(out, format, &rows, &profiles, reference)?;
+    Ok(rows)
+}
+
+/// The study's charts: centre-line profiles at every Wi, and K against Wi beside the
+/// published values.
+fn charts(
+    out: &Path,
+    format: FigureFormat,
+    rows: &[Row],
+    profiles: &[(f64, Vec<[f64; 4]>)],
+    reference: Option<&[(f64, f64)]>,
+) -> Result<()> {
     for (k, name, y) in [
         (1, "centreline_u.png", "u/<u>"),
         (2, "centreline_tau_xx.png", "tau_xx/(eta_s <u>/R)"),
@@ -136,6 +151,7 @@ pub fn run(
             .collect();
         plot::draw(
             &out.join(name),
+            format,
             &Chart {
                 title: format!("Centre-line between cylinders: {y}"),
                 x_label: "s (0: downstream edge of a cylinder)".into(),
@@ -165,6 +181,7 @@ pub fn run(
     }
     plot::draw(
         &out.join("drag_vs_wi.png"),
+        format,
         &Chart {
             title: "Drag coefficient K = F_x/(eta0 <u>)".into(),
             x_label: "Wi".into(),
@@ -173,7 +190,7 @@ pub fn run(
         },
         &curves,
     )?;
-    Ok(rows)
+    Ok(())
 }
 
 fn csv(rows: &[Row]) -> String {

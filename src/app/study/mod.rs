@@ -154,7 +154,7 @@ pub fn run_all(
                 &RunOptions {
                     out_dir: dir.clone(),
                     quiet: true,
-                    charts: false,
+                    charts: None,
                     snapshots: false,
                 },
             )

@@ -3,6 +3,7 @@
 //! required accuracy.
 
 use super::{product, run_all, Base, Variant};
+use crate::app::plot::FigureFormat;
 use crate::app::plot::{self, Chart, Curve, CurveStyle, PALETTE};
 use anyhow::Result;
 use std::fmt::Write as _;
@@ -39,6 +40,7 @@ pub fn run(
     resolutions: &[usize],
     varies: &[(String, Vec<String>)],
     out: &Path,
+    format: FigureFormat,
     jobs: usize,
     quiet: bool,
 ) -> Result<Vec<Point>> {
@@ -120,6 +122,7 @@ pub fn run(
     }
     plot::draw(
         &out.join("speed_accuracy.png"),
+        format,
         &Chart {
             title: "Wall time against accuracy".into(),
             x_label: "wall seconds".into(),

@@ -9,6 +9,7 @@
 //! below the O(1) errors of a run that has left the solution.
 
 use super::{product, run_all, Base, Variant};
+use crate::app::plot::FigureFormat;
 use crate::app::plot::{self, Chart, Curve, CurveStyle};
 use crate::app::run::Outcome;
 use anyhow::{Context, Result};
@@ -49,12 +50,15 @@ pub struct Row {
 
 /// Runs every variant at every Wi (λ = Wi·H/U) and writes `stability.csv` and
 /// `stability_map.png`. Returns the rows.
+// The study's grid (Wi × variants), its accuracy threshold and where and how it writes.
+#[allow(clippy::too_many_arguments)]
 pub fn run(
     base: &Base,
     wis: &[f64],
     varies: &[(String, Vec<String>)],
     accuracy: f64,
     out: &Path,
+    format: FigureFormat,
     jobs: usize,
     quiet: bool,
 ) -> Result<Vec<Row>> {
@@ -125,13 +129,13 @@ pub fn run(
         );
     }
     crate::app::io::write_atomic(&out.join("stability.csv"), csv.as_bytes())?;
-    map(&rows, accuracy, out)?;
+    map(&rows, accuracy, out, format)?;
     Ok(rows)
 }
 
 /// Redraws the map of a finished study from its `stability.csv` (variant, Wi and outcome
 /// are the first three columns; the variant labels hold no commas).
-pub fn replot(out: &Path, accuracy: f64) -> Result<()> {
+pub fn replot(out: &Path, format: FigureFormat, accuracy: f64) -> Result<()> {
     let path = out.join("stability.csv");
     let text =
         std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))?;
@@ -161,12 +165,12 @@ pub fn replot(out: &Path, accuracy: f64) -> Result<()> {
             })
         })
         .collect::<Result<Vec<_>>>()?;
-    map(&rows, accuracy, out)
+    map(&rows, accuracy, out, format)
 }
 
 /// Wi on a log axis, one row per variant, coloured by outcome; the variant of each row is in
 /// the legend of its largest stable Wi.
-fn map(rows: &[Row], accuracy: f64, out: &Path) -> Result<()> {
+fn map(rows: &[Row], accuracy: f64, out: &Path, format: FigureFormat) -> Result<()> {
     let mut names: Vec<String> = Vec::new();
     for r in rows {
         if !names.contains(&r.variant) {
@@ -234,6 +238,7 @@ fn map(rows: &[Row], accuracy: f64, out: &Path) -> Result<()> {
     let y_range = Some((-0.5, (n - 0.5) + 0.25 * (n + 3.0) + 0.5));
     plot::draw(
         &out.join("stability_map.png"),
+        format,
         &Chart {
             title: "Stability map".into(),
             x_label: "Wi".into(),

@@ -7,6 +7,7 @@ use super::Probe;
 use crate::analysis::centreline::Centreline;
 use crate::analysis::forces;
 use crate::app::io::{self, SeriesRow};
+use crate::app::plot::FigureFormat;
 use crate::app::run::charts;
 use crate::engine::boundary::Circle;
 use crate::engine::step::Simulation;
@@ -122,7 +123,7 @@ impl Probe for CylinderProbe {
         sim: &mut Simulation,
         rows: &[SeriesRow],
         dir: &Path,
-        charts: bool,
+        charts: Option<FigureFormat>,
     ) -> Result<Option<serde_json::Value>> {
         let avg = self.averages(sim, rows);
         let eta_s = sim.fluid.solvent_viscosity();
@@ -130,10 +131,11 @@ impl Probe for CylinderProbe {
         let summary = avg.summary(self.state.steady_at, eta_s, radius, &self.centreline.s);
         let csv = centreline_csv(&self.centreline, &avg, &summary, eta_s, radius);
         io::write_atomic(&dir.join("centreline.csv"), csv.as_bytes())?;
-        if charts {
+        if let Some(format) = charts {
             let c = self.circle.centre;
             charts::cylinder(
                 dir,
+                format,
                 sim,
                 rows,
                 &crate::analysis::centreline::parse_csv(&csv),

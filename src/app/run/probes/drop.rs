@@ -10,6 +10,7 @@
 
 use super::Probe;
 use crate::app::io::{self, SeriesRow};
+use crate::app::plot::FigureFormat;
 use crate::app::plot::{self, Chart, Curve, CurveStyle, PALETTE};
 use crate::engine::step::Simulation;
 use anyhow::Result;
@@ -171,7 +172,7 @@ impl DropProbe {
     }
 
     /// `drop.png` (W* and H* against t*) and `drop_area.png` (area drift).
-    pub fn charts(&self, dir: &Path) -> Result<()> {
+    pub fn charts(&self, dir: &Path, format: FigureFormat) -> Result<()> {
         let curve = |label: &str, f: fn(&DropRow) -> f64, colour| Curve {
             label: label.into(),
             points: self.rows.iter().map(|r| (r.t_star, f(r))).collect(),
@@ -180,6 +181,7 @@ impl DropProbe {
         };
         plot::draw(
             &dir.join("drop.png"),
+            format,
             &Chart {
                 title: "Drop width and height".into(),
                 x_label: "t* = tU/W".into(),
@@ -193,6 +195,7 @@ impl DropProbe {
         )?;
         plot::draw(
             &dir.join("drop_area.png"),
+            format,
             &Chart {
                 title: "Drop area drift (N dV / mean interior C)".into(),
                 x_label: "t* = tU/W".into(),
@@ -226,10 +229,10 @@ impl Probe for DropProbe {
         _sim: &mut Simulation,
         _rows: &[SeriesRow],
         dir: &Path,
-        charts: bool,
+        charts: Option<FigureFormat>,
     ) -> Result<Option<serde_json::Value>> {
-        if charts {
-            self.charts(dir)?;
+        if let Some(format) = charts {
+            self.charts(dir, format)?;
         }
         Ok(self.summary().map(serde_json::to_value).transpose()?)
     }

@@ -9,6 +9,7 @@
 
 use super::Probe;
 use crate::app::io::{self, SeriesRow};
+use crate::app::plot::FigureFormat;
 use crate::app::plot::{self, Chart, Curve, CurveStyle, PALETTE};
 use crate::engine::step::Simulation;
 use anyhow::Result;
@@ -132,9 +133,10 @@ impl JetProbe {
     }
 
     /// `jet.png`: x_b/D and the tip height against t.
-    pub fn charts(&self, dir: &Path) -> Result<()> {
+    pub fn charts(&self, dir: &Path, format: FigureFormat) -> Result<()> {
         plot::draw(
             &dir.join("jet.png"),
+            format,
             &Chart {
                 title: "Jet: lateral centroid at 1.5-2.5 D, tip height".into(),
                 x_label: "t (s)".into(),
@@ -182,10 +184,10 @@ impl Probe for JetProbe {
         sim: &mut Simulation,
         _rows: &[SeriesRow],
         dir: &Path,
-        charts: bool,
+        charts: Option<FigureFormat>,
     ) -> Result<Option<serde_json::Value>> {
-        if charts {
-            self.charts(dir)?;
+        if let Some(format) = charts {
+            self.charts(dir, format)?;
         }
         Ok(Some(serde_json::to_value(self.summary(sim.spacing))?))
     }

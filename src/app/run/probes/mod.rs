@@ -11,6 +11,7 @@ pub mod jet;
 pub mod steady;
 
 use crate::app::io::SeriesRow;
+use crate::app::plot::FigureFormat;
 use crate::engine::step::Simulation;
 use crate::setup::case::Case;
 use anyhow::Result;
@@ -43,13 +44,14 @@ pub trait Probe {
     fn write(&self, _dir: &Path) -> Result<()> {
         Ok(())
     }
-    /// At the end of the run: its final files and charts (with `charts`), and its summary.
+    /// At the end of the run: its final files and charts (in the format `charts` names, if
+    /// any), and its summary.
     fn finish(
         &mut self,
         sim: &mut Simulation,
         rows: &[SeriesRow],
         dir: &Path,
-        charts: bool,
+        charts: Option<FigureFormat>,
     ) -> Result<Option<serde_json::Value>>;
 }
 
@@ -118,7 +120,7 @@ impl Probes {
         sim: &mut Simulation,
         rows: &[SeriesRow],
         dir: &Path,
-        charts: bool,
+        charts: Option<FigureFormat>,
     ) -> Result<BTreeMap<&'static str, serde_json::Value>> {
         let mut entries = BTreeMap::new();
         for p in self.0.iter_mut() {
