@@ -36,7 +36,7 @@ impl Reordering {
         match self {
             Reordering::Never => false,
             Reordering::Once => steps == 0,
-            Reordering::Periodic => steps % REORDER_INTERVAL == 0,
+            Reordering::Periodic => steps.is_multiple_of(REORDER_INTERVAL),
         }
     }
 }

@@ -49,7 +49,7 @@ impl StartupCouette {
     fn mode(&self, n: usize, t: f64) -> (f64, f64) {
         let [ub, ut] = self.wall_velocity;
         let delta = ut - ub;
-        let sign = if n % 2 == 0 { 1.0 } else { -1.0 }; // (−1)ⁿ
+        let sign = if n.is_multiple_of(2) { 1.0 } else { -1.0 }; // (−1)ⁿ
         let a0 = -2.0 / (n as f64 * PI) * (ub * (1.0 - sign) - delta * sign);
         let k = self.wavenumber(n);
         let rho = self.density;
