@@ -26,6 +26,7 @@ fn series_with_threads(threads: usize, extra: &[&str]) -> String {
                 quiet: true,
                 charts: None,
                 snapshots: false,
+                progress: None,
             },
         )
         .unwrap()

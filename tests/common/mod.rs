@@ -23,6 +23,7 @@ pub fn run_quiet(case: &Case, charts: bool) -> (Summary, tempfile::TempDir) {
             quiet: true,
             charts: charts.then_some(rheosph::app::plot::FigureFormat::Png),
             snapshots: false,
+            progress: None,
         },
     )
     .expect("run completes");

@@ -9,7 +9,6 @@ use crate::setup::case::{self, CaseError};
 use args::{BenchArgs, CaseArgs, CompareArgs, CompareDropsArgs, RheometryArgs, RunArgs};
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
-use std::process::ExitCode;
 
 #[derive(Parser, Debug)]
 #[command(
@@ -45,28 +44,37 @@ pub enum Command {
     Study(StudyCommand),
 }
 
+/// Exit code of a command that did what it was asked.
+pub const EXIT_FINISHED: u8 = 0;
+/// Exit code for other errors (e.g. an unwritable output directory).
+pub const EXIT_FAILURE: u8 = 1;
 /// Exit code for a run that broke down (a result, not a crash).
 pub const EXIT_BROKE_DOWN: u8 = 3;
 /// Exit code for bad input.
 pub const EXIT_BAD_INPUT: u8 = 2;
 
 /// Runs the parsed command line.
-pub fn main(cli: Cli) -> ExitCode {
+pub fn main(cli: Cli) -> std::process::ExitCode {
+    std::process::ExitCode::from(exit_code(cli))
+}
+
+/// Runs the parsed command line and returns its exit code (0 finished; see the constants).
+pub fn exit_code(cli: Cli) -> u8 {
     match dispatch(cli) {
         Ok(code) => code,
         Err(e) => {
             if let Some(ce) = e.downcast_ref::<CaseError>() {
                 eprintln!("error: {ce}");
-                ExitCode::from(EXIT_BAD_INPUT)
+                EXIT_BAD_INPUT
             } else {
                 eprintln!("error: {e:#}");
-                ExitCode::FAILURE
+                EXIT_FAILURE
             }
         }
     }
 }
 
-fn dispatch(cli: Cli) -> anyhow::Result<ExitCode> {
+fn dispatch(cli: Cli) -> anyhow::Result<u8> {
     match cli.command {
         Command::Run(args) => {
             let options = |out_dir: PathBuf| RunOptions {
@@ -74,6 +82,7 @@ fn dispatch(cli: Cli) -> anyhow::Result<ExitCode> {
                 quiet: cli.quiet,
                 charts: (!args.no_charts).then_some(args.figure_format),
                 snapshots: !args.no_snapshots,
+                progress: None,
             };
             let summary = match (&args.resume, &args.case) {
                 (Some(dir), _) => run::resume(&options(dir.clone()))?,
@@ -91,13 +100,13 @@ fn dispatch(cli: Cli) -> anyhow::Result<ExitCode> {
                 (None, None) => anyhow::bail!("a case file or --resume DIR is required"),
             };
             Ok(match summary.outcome {
-                Outcome::Finished => ExitCode::SUCCESS,
-                Outcome::BrokeDown => ExitCode::from(EXIT_BROKE_DOWN),
+                Outcome::Finished => EXIT_FINISHED,
+                Outcome::BrokeDown => EXIT_BROKE_DOWN,
             })
         }
         Command::Study(study) => {
             crate::app::study::cli::dispatch(study, cli.quiet)?;
-            Ok(ExitCode::SUCCESS)
+            Ok(EXIT_FINISHED)
         }
         Command::Rheometry(args) => {
             let case = case::load(&args.case, &args.set)?;
@@ -106,15 +115,15 @@ fn dispatch(cli: Cli) -> anyhow::Result<ExitCode> {
                 .clone()
                 .unwrap_or_else(|| PathBuf::from("runs").join(format!("rheometry-{}", case.name)));
             crate::app::rheometry::run(&case, &out, args.figure_format, cli.quiet)?;
-            Ok(ExitCode::SUCCESS)
+            Ok(EXIT_FINISHED)
         }
         Command::Bench(args) if args.solvers => {
             crate::app::bench_solvers::run(&args.sizes, &args.out, cli.quiet)?;
-            Ok(ExitCode::SUCCESS)
+            Ok(EXIT_FINISHED)
         }
         Command::Bench(args) => {
             crate::app::bench::run(&args.sizes, args.steps, args.lu_max, &args.out, cli.quiet)?;
-            Ok(ExitCode::SUCCESS)
+            Ok(EXIT_FINISHED)
         }
         Command::CompareProfiles(args) => {
             crate::app::compare::compare_profiles(
@@ -124,17 +133,17 @@ fn dispatch(cli: Cli) -> anyhow::Result<ExitCode> {
                 &args.title,
                 &args.out,
             )?;
-            Ok(ExitCode::SUCCESS)
+            Ok(EXIT_FINISHED)
         }
         Command::CompareDrops(args) => {
             crate::app::compare::compare_drops(&args.runs, &args.labels, &args.title, &args.out)?;
-            Ok(ExitCode::SUCCESS)
+            Ok(EXIT_FINISHED)
         }
         Command::Check(args) => {
             let case = case::load(&args.case, &args.set)?;
             println!("{}: valid", args.case.display());
             println!("{}", serde_json::to_string_pretty(&case.derived())?);
-            Ok(ExitCode::SUCCESS)
+            Ok(EXIT_FINISHED)
         }
     }
 }

@@ -36,6 +36,18 @@ pub struct RunOptions {
     pub charts: Option<crate::app::plot::FigureFormat>,
     /// Write `.vtu` snapshots every `run.snapshot_interval`.
     pub snapshots: bool,
+    /// Told the time at every series row (a caller's progress display, e.g. Python's).
+    pub progress: Option<ProgressHook>,
+}
+
+/// A function called with (t, end time) as a run advances.
+#[derive(Clone)]
+pub struct ProgressHook(pub std::sync::Arc<dyn Fn(f64, f64) + Send + Sync>);
+
+impl std::fmt::Debug for ProgressHook {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("ProgressHook")
+    }
 }
 
 /// The case as run (after `--set`), for `--resume`.

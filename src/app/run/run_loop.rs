@@ -172,6 +172,9 @@ impl<'a> Run<'a> {
                 self.progress
                     .set_position((1000.0 * t / self.case.end_time) as u64);
                 self.progress.set_message(format!("t = {t:.3}"));
+                if let Some(hook) = &self.options.progress {
+                    (hook.0)(t, self.cadence.end_time);
+                }
                 if self.last_flush.elapsed() >= FLUSH_INTERVAL {
                     self.flush()?;
                 }

@@ -156,6 +156,7 @@ pub fn run_all(
                     quiet: true,
                     charts: None,
                     snapshots: false,
+                    progress: None,
                 },
             )
         })?;

@@ -1,0 +1,295 @@
+"""rheosph from Python: incompressible SPH for viscoelastic flows (King & Lind 2021).
+
+Cases are the command line's case files (or dicts of the same keys), validated by the same
+code with the same one-line errors; runs write the same run directory; results come back as
+numpy arrays.
+
+    import rheosph
+    result = rheosph.run("cases/poiseuille.toml", out="runs/p", overrides={"run.end_time": 1.0})
+    result.series["t"], result.series["u_centre"]          # series.csv, column by column
+    result.summary["errors"]                                # summary.json
+    result.particles()["tau_xy"], result.grid().fields["u"] # final state: particles, grid
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable, Mapping, Optional, Sequence, Union
+
+import numpy as np
+
+from . import _native
+from ._native import CaseError
+
+__all__ = [
+    "Case",
+    "CaseError",
+    "Grid",
+    "Result",
+    "load_case",
+    "open_run",
+    "rheometry",
+    "run",
+    "study",
+]
+
+CaseLike = Union[str, os.PathLike, Mapping[str, Any], "Case"]
+
+
+def _override_value(value: Any) -> str:
+    """A `--set` value: TOML literals for booleans, numbers and lists; strings as given."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, (int, float)):
+        return repr(value)
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_override_value(v) for v in value) + "]"
+    return str(value)
+
+
+def _overrides(overrides: Optional[Union[Mapping[str, Any], Sequence[str]]]) -> list[str]:
+    if overrides is None:
+        return []
+    if isinstance(overrides, Mapping):
+        return [f"{k}={_override_value(v)}" for k, v in overrides.items()]
+    return [str(o) for o in overrides]
+
+
+@dataclass(frozen=True)
+class Case:
+    """A validated case: its TOML text, the file it came from, its name and overrides.
+
+    `derived` holds the derived numbers (Re, Wi, El, beta, the time-step limits, particles)
+    that `rheosph check` prints."""
+
+    text: str
+    file: str
+    name: str
+    overrides: tuple[str, ...] = ()
+    derived: dict = field(default_factory=dict)
+
+    def with_overrides(self, overrides) -> "Case":
+        """This case with more overrides (later ones win), validated again."""
+        extra = tuple(_overrides(overrides))
+        return _validated(self.text, self.file, self.name, self.overrides + extra)
+
+
+def _validated(text: str, file: str, name: str, overrides: Sequence[str]) -> Case:
+    derived = json.loads(_native.check(text, file, name, list(overrides)))
+    return Case(text, file, name, tuple(overrides), derived)
+
+
+def load_case(case: CaseLike, overrides=None) -> Case:
+    """A case from a file path, a dict of case-file tables (``{"scene": {...}, ...}``) or a
+    Case, with overrides (a dict ``{"fluid.beta": 0.2}`` or ``["fluid.beta=0.2"]``).
+
+    Raises CaseError with the command line's one line (file, field, why) if it is invalid."""
+    if isinstance(case, Case):
+        return case.with_overrides(overrides)
+    if isinstance(case, Mapping):
+        text = _native.toml_from_json(json.dumps(case))
+        return _validated(text, "<dict>", "case", _overrides(overrides))
+    path = Path(case)
+    try:
+        text = path.read_text()
+    except OSError as e:
+        raise CaseError(f"{path}: cannot read: {e}") from None
+    return _validated(text, str(path), path.stem, _overrides(overrides))
+
+
+def _read_csv(path: Path) -> dict[str, np.ndarray]:
+    """A CSV with a header row as {column: array}; numeric columns as float arrays."""
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    if not rows:
+        return {}
+    header, body = rows[0], rows[1:]
+    columns: dict[str, np.ndarray] = {}
+    for k, name in enumerate(header):
+        values = [r[k] if k < len(r) else "" for r in body]
+        try:
+            columns[name] = np.array([float(v) if v != "" else np.nan for v in values])
+        except ValueError:
+            columns[name] = np.array(values, dtype=object)
+    return columns
+
+
+@dataclass
+class Grid:
+    """Fields on a regular grid of cell-centred nodes: `x` (nx,), `y` (ny,), and `fields`
+    {name: array (ny, nx)} with NaN outside the fluid; `fields["fluid"]` is 1 inside."""
+
+    x: np.ndarray
+    y: np.ndarray
+    fields: dict[str, np.ndarray]
+
+
+class Result:
+    """A run directory, read lazily: `series` (series.csv), `summary` (summary.json),
+    `profile` (profile.csv), `particles()` and `grid()` (the final state)."""
+
+    def __init__(self, path: Union[str, os.PathLike], exit_code: Optional[int] = None):
+        self.path = Path(path)
+        self.exit_code = exit_code
+        self._series = None
+        self._summary = None
+
+    def __repr__(self) -> str:
+        return f"Result({str(self.path)!r}, outcome={self.outcome!r})"
+
+    @property
+    def series(self) -> dict[str, np.ndarray]:
+        """series.csv: {column: array}, one entry per output interval."""
+        if self._series is None:
+            self._series = _read_csv(self.path / "series.csv")
+        return self._series
+
+    @property
+    def summary(self) -> dict:
+        """summary.json (absent while a run is in progress or if it was killed)."""
+        if self._summary is None:
+            self._summary = json.loads((self.path / "summary.json").read_text())
+        return self._summary
+
+    @property
+    def outcome(self) -> Optional[str]:
+        """"finished" or "broke_down" (None without a summary)."""
+        try:
+            return self.summary["outcome"]
+        except FileNotFoundError:
+            return None
+
+    @property
+    def profile(self) -> dict[str, np.ndarray]:
+        """profile.csv: every particle at the end with the analytic values at its height."""
+        return _read_csv(self.path / "profile.csv")
+
+    def csv(self, name: str) -> dict[str, np.ndarray]:
+        """Any CSV of the run directory by file name (drop.csv, centreline.csv, ...)."""
+        return _read_csv(self.path / name)
+
+    def particles(self) -> dict[str, np.ndarray]:
+        """The final state's particles: x, y, u, v, pressure, tau_xx, tau_xy, tau_yy,
+        trace_A, det_A (arrays of one value per particle)."""
+        return {
+            name: np.frombuffer(data, dtype="<f8").copy()
+            for name, data in _native.particles(str(self.path))
+        }
+
+    def grid(self, spacing: Optional[float] = None) -> Grid:
+        """The final state on a grid (as in the .vti snapshots), nodes `spacing` apart
+        (default: the particle spacing)."""
+        origin, step, (nx, ny), fields = _native.grid_fields(str(self.path), spacing)
+        x = origin[0] + step[0] * np.arange(nx)
+        y = origin[1] + step[1] * np.arange(ny)
+        arrays = {
+            name: np.frombuffer(data, dtype="<f8").reshape(ny, nx).copy()
+            for name, data in fields
+        }
+        return Grid(x, y, arrays)
+
+
+def open_run(path: Union[str, os.PathLike]) -> Result:
+    """A finished (or running) run directory."""
+    path = Path(path)
+    if not (path / "series.csv").exists():
+        raise FileNotFoundError(f"{path} is not a run directory (no series.csv)")
+    return Result(path)
+
+
+def run(
+    case: CaseLike,
+    out: Optional[Union[str, os.PathLike]] = None,
+    overrides=None,
+    progress: Optional[Callable[[float, float], Any]] = None,
+    figure_format: Optional[str] = "png",
+    snapshots: bool = False,
+    from_run: Optional[Union[str, os.PathLike, Result]] = None,
+) -> Result:
+    """Runs a case to its end time (or breakdown) and returns its Result.
+
+    `out` defaults to runs/<case name>; `progress(t, end_time)` is called at every series
+    row; `figure_format` is "png", "svg" or None (no charts); `snapshots` writes the .vtu and
+    .vti snapshots; `from_run` starts from that finished run's final state (continuation:
+    a Wi ramp, a changed parameter), as `rheosph run --from`. A run that breaks down is a
+    result: `result.outcome == "broke_down"` and `result.summary["reason"]` says why."""
+    c = load_case(case, overrides)
+    out = Path(out) if out is not None else Path("runs") / c.name
+    if isinstance(from_run, Result):
+        from_run = from_run.path
+    code = _native.run(
+        c.text,
+        c.file,
+        c.name,
+        list(c.overrides),
+        str(out),
+        progress,
+        figure_format,
+        snapshots,
+        None if from_run is None else str(from_run),
+    )
+    return Result(out, code)
+
+
+def _cli(argv: list[str]) -> int:
+    code = _native.cli(["rheosph", "--quiet", *argv])
+    if code not in (0, 3):
+        raise RuntimeError(f"rheosph {' '.join(argv)} failed (exit code {code}); see stderr")
+    return code
+
+
+def study(
+    kind: str,
+    case: Union[str, os.PathLike],
+    out: Union[str, os.PathLike],
+    overrides=None,
+    **options: Any,
+) -> dict[str, np.ndarray]:
+    """Runs a study as `rheosph study <kind>` does and returns its table as arrays.
+
+    kind: "convergence", "stability", "speed-accuracy" or "cylinder"; options are the
+    command's flags with underscores, lists for comma lists, e.g.
+    ``study("convergence", "cases/poiseuille.toml", "runs/conv", resolutions=[15, 30])``;
+    ``vary={"scheme.viscosity": ["explicit", "implicit"]}`` for --vary."""
+    argv = ["study", kind, str(case), "--out", str(out)]
+    for o in _overrides(overrides):
+        argv += ["--set", o]
+    for key, value in options.items():
+        flag = "--" + key.replace("_", "-")
+        if key == "vary":
+            for k, values in value.items():
+                argv += [flag, f"{k}=" + ",".join(_override_value(v) for v in values)]
+        elif isinstance(value, bool):
+            argv += [flag] if value else []
+        elif isinstance(value, (list, tuple)):
+            argv += [flag, ",".join(str(v) for v in value)]
+        else:
+            argv += [flag, str(value)]
+    _cli(argv)
+    table = {
+        "convergence": "convergence.csv",
+        "stability": "stability.csv",
+        "speed-accuracy": "speed_accuracy.csv",
+        "cylinder": "cylinder.csv",
+    }.get(kind)
+    return _read_csv(Path(out) / table) if table else {}
+
+
+def rheometry(
+    case: Union[str, os.PathLike], out: Union[str, os.PathLike], overrides=None
+) -> dict[str, dict[str, np.ndarray]]:
+    """The case's fluid in homogeneous flows (`rheosph rheometry`): {"steady_shear": ...,
+    "startup_shear": ..., "planar_extension": ..., "saos": ...}, each {column: array}."""
+    argv = ["rheometry", str(case), "--out", str(out)]
+    for o in _overrides(overrides):
+        argv += ["--set", o]
+    _cli(argv)
+    return {
+        name: _read_csv(Path(out) / f"{name}.csv")
+        for name in ("steady_shear", "startup_shear", "planar_extension", "saos")
+        if (Path(out) / f"{name}.csv").exists()
+    }

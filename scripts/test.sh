@@ -1,0 +1,13 @@
+#!/bin/sh
+# The whole test suite, as CI runs it: the Rust workspace, then the Python package installed
+# by pip into a fresh virtual environment and its unittest suite. Needs only a Rust toolchain
+# and python3 (pip fetches maturin and numpy from PyPI).
+set -eu
+cd "$(dirname "$0")/.."
+cargo test --release --workspace
+venv=target/python-test-venv
+rm -rf "$venv"
+python3 -m venv "$venv"
+# The extension reuses the release artefacts cargo test just built.
+CARGO_TARGET_DIR="$PWD/target" "$venv/bin/pip" install --quiet ./python
+"$venv/bin/python" -m unittest discover -s python/tests -v
