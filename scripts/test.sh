@@ -9,5 +9,5 @@ venv=target/python-test-venv
 rm -rf "$venv"
 python3 -m venv "$venv"
 # The extension reuses the release artefacts cargo test just built.
-CARGO_TARGET_DIR="$PWD/target" "$venv/bin/pip" install --quiet ./python
+CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/target}" "$venv/bin/pip" install --quiet ./python
 "$venv/bin/python" -m unittest discover -s python/tests -v
