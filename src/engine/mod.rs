@@ -4,6 +4,7 @@
 //! The time step is [`step::Simulation::step`]; its stages are the modules named after the
 //! physical idea they implement.
 
+pub mod bodies;
 pub mod boundary;
 pub mod drive;
 pub mod frame;

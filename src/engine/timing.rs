@@ -24,6 +24,8 @@ pub enum Stage {
     PpeSolve,
     /// Step 6: projection.
     Projection,
+    /// After step 7: the rigid discs' loads and motion.
+    Bodies,
     /// Breakdown checks, analytic comparison, series rows.
     Diagnostics,
     /// Writing files.
@@ -42,6 +44,7 @@ pub struct StageSeconds {
     pub ppe_assembly: f64,
     pub ppe_solve: f64,
     pub projection: f64,
+    pub bodies: f64,
     pub diagnostics: f64,
     pub output: f64,
 }
@@ -58,6 +61,7 @@ impl StageSeconds {
             Stage::PpeAssembly => &mut self.ppe_assembly,
             Stage::PpeSolve => &mut self.ppe_solve,
             Stage::Projection => &mut self.projection,
+            Stage::Bodies => &mut self.bodies,
             Stage::Diagnostics => &mut self.diagnostics,
             Stage::Output => &mut self.output,
         }
@@ -85,6 +89,7 @@ impl StageSeconds {
             + self.ppe_assembly
             + self.ppe_solve
             + self.projection
+            + self.bodies
             + self.diagnostics
             + self.output
     }

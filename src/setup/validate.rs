@@ -197,6 +197,12 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene) -> Result<Scheme, FieldError> {
             "a free-surface flow needs moving particles: lagrangian",
         ));
     }
+    if scene.moving_bodies() && s.frame == Frame::Eulerian {
+        return Err(field_err(
+            "scheme.frame",
+            "a moving disc needs moving particles (the Eulerian frame keeps its neighbourhoods fixed): lagrangian",
+        ));
+    }
     let evss_alpha = in_range("scheme.evss_alpha", s.evss_alpha, 0.0, 1.0)?;
     if !(s.dt_factor.is_finite() && s.dt_factor > 0.0) {
         return Err(field_err(
@@ -237,9 +243,11 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene) -> Result<Scheme, FieldError> {
             // where the standard one runs on. Channels (∇p = 0 at steady state, no splitting
             // error): with the incremental one the channel broke down at Wi = 64, 85, 128
             // (Re = 1, β = 0.1, H/δr = 30) and UCM (α_V = 0.01) from Wi = 4, both at
-            // δt c/h ≤ 1.9, where the standard one runs through.
+            // δt c/h ≤ 1.9, where the standard one runs through. Discs are bodies too.
             ProjectionChoice::Auto
-                if s.viscosity == Viscosity::Implicit && !open && scene.cylinder().is_some() =>
+                if s.viscosity == Viscosity::Implicit
+                    && !open
+                    && (scene.cylinder().is_some() || scene.discs() > 0) =>
             {
                 Projection::Incremental
             }

@@ -30,6 +30,7 @@
 //!     checksum   u64      FNV-1a of every preceding byte
 //! ```
 
+use crate::engine::bodies::DiscMotion;
 use crate::engine::frame::Frame;
 use crate::engine::math::{Sym2, Vec2};
 use crate::engine::step::{Simulation, State};
@@ -42,7 +43,11 @@ pub const VERSION: u32 = 2;
 
 const FLAG_CONFORMATION: u32 = 1;
 const FLAG_EULERIAN: u32 = 2;
-const KNOWN_FLAGS: u32 = FLAG_CONFORMATION | FLAG_EULERIAN;
+/// The rigid discs' centres, velocities, spins and accelerations follow the particles
+/// (7 values per disc; the case says how many).
+const FLAG_DISCS: u32 = 4;
+const KNOWN_FLAGS: u32 = FLAG_CONFORMATION | FLAG_EULERIAN | FLAG_DISCS;
+const VALUES_PER_DISC: usize = 7;
 /// Bytes before the particle arrays.
 const HEADER: usize = MAGIC.len() + 4 + 4 + 8 + 8 + 8 + 8 + 16;
 const CHECKSUM: usize = 8;
@@ -81,6 +86,9 @@ fn flags_of(sim: &Simulation) -> u32 {
     if sim.scheme.frame == Frame::Eulerian {
         flags |= FLAG_EULERIAN;
     }
+    if !sim.bodies().is_empty() {
+        flags |= FLAG_DISCS;
+    }
     flags
 }
 
@@ -95,7 +103,9 @@ pub fn encode(sim: &Simulation) -> Vec<u8> {
     let s = &sim.state;
     let flags = flags_of(sim);
     let n = s.position.len();
-    let mut out = Vec::with_capacity(HEADER + 8 * n * values_per_particle(flags) + CHECKSUM);
+    let discs = 8 * VALUES_PER_DISC * sim.bodies().discs.len();
+    let mut out =
+        Vec::with_capacity(HEADER + 8 * n * values_per_particle(flags) + discs + CHECKSUM);
     out.extend_from_slice(MAGIC);
     out.extend_from_slice(&VERSION.to_le_bytes());
     out.extend_from_slice(&flags.to_le_bytes());
@@ -124,6 +134,13 @@ pub fn encode(sim: &Simulation) -> Vec<u8> {
         put(u.x);
         put(u.y);
     });
+    for d in &sim.bodies().discs {
+        let c = d.circle.centre;
+        [c.x, c.y, d.velocity.x, d.velocity.y, d.spin]
+            .into_iter()
+            .chain([d.acceleration.x, d.acceleration.y])
+            .for_each(&mut put);
+    }
     let checksum = fnv1a(&out);
     out.extend_from_slice(&checksum.to_le_bytes());
     out
@@ -197,10 +214,15 @@ pub fn restore(sim: &mut Simulation, bytes: &[u8]) -> Result<(), CheckpointError
         )));
     }
     let n = r.u64();
+    let discs = if flags & FLAG_DISCS != 0 {
+        8 * VALUES_PER_DISC * sim.bodies().discs.len()
+    } else {
+        0
+    };
     let expected = usize::try_from(n)
         .ok()
         .and_then(|n| n.checked_mul(8 * values_per_particle(flags)))
-        .and_then(|body| body.checked_add(HEADER + CHECKSUM))
+        .and_then(|body| body.checked_add(HEADER + discs + CHECKSUM))
         .unwrap_or(usize::MAX);
     if bytes.len() < expected {
         return Err(truncated(expected));
@@ -230,6 +252,9 @@ pub fn restore(sim: &mut Simulation, bytes: &[u8]) -> Result<(), CheckpointError
     if flags & FLAG_EULERIAN != wanted & FLAG_EULERIAN {
         return mismatch("the frames (Lagrangian/Eulerian) differ".into());
     }
+    if flags & FLAG_DISCS != wanted & FLAG_DISCS {
+        return mismatch("discs stored for a scene without, or missing for one with".into());
+    }
     let spacing = r.f64();
     if spacing.to_bits() != sim.spacing.to_bits() {
         return mismatch(format!(
@@ -258,6 +283,9 @@ pub fn restore(sim: &mut Simulation, bytes: &[u8]) -> Result<(), CheckpointError
         Vec::new()
     };
     let shift_velocity = r.vec2s(n);
+    let discs: Vec<[f64; VALUES_PER_DISC]> = (0..discs / (8 * VALUES_PER_DISC))
+        .map(|_| std::array::from_fn(|_| r.f64()))
+        .collect();
     debug_assert_eq!(r.at, body.len());
     sim.restore_state(State {
         time,
@@ -269,6 +297,16 @@ pub fn restore(sim: &mut Simulation, bytes: &[u8]) -> Result<(), CheckpointError
         shift_velocity,
         body_force,
     });
+    let discs: Vec<DiscMotion> = discs
+        .iter()
+        .map(|v| DiscMotion {
+            centre: Vec2::new(v[0], v[1]),
+            velocity: Vec2::new(v[2], v[3]),
+            spin: v[4],
+            acceleration: Vec2::new(v[5], v[6]),
+        })
+        .collect();
+    sim.restore_discs(&discs);
     Ok(())
 }
 

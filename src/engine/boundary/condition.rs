@@ -108,3 +108,50 @@ impl WallCondition for SlidingNoSlip {
         .tensor(parent, normal)
     }
 }
+
+/// A no-slip wall moving rigidly: translating at `velocity` and spinning at `spin`
+/// (counter-clockwise) about `centre`, so that its surface point x_s moves at
+/// u_w = V + Ω ẑ × (x_s − c). The mirror of a particle across a circle of `radius` about
+/// `centre` carries `u_j = 2u_w(x_s) − u_i` with x_s where r_ij crosses the surface (on the
+/// radius through the mirror); pressure and conformation as [`NoSlip`]. The pressure mirror
+/// stays even: the normal pressure gradient of the body's acceleration, ρ a·n, is left out
+/// (it is ρΩ²R for steady rotation).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RigidNoSlip {
+    pub tensor: TensorMirror,
+    pub centre: Vec2,
+    pub radius: f64,
+    pub velocity: Vec2,
+    pub spin: f64,
+}
+
+impl RigidNoSlip {
+    /// The surface velocity at a point x: V + Ω ẑ × (x − c).
+    pub fn surface_velocity(&self, x: Vec2) -> Vec2 {
+        let r = x - self.centre;
+        self.velocity + self.spin * Vec2::new(-r.y, r.x)
+    }
+}
+
+impl WallCondition for RigidNoSlip {
+    fn velocity_sign(&self) -> f64 {
+        -1.0
+    }
+
+    fn velocity_offset(&self, mirror: Vec2) -> Vec2 {
+        let r = mirror - self.centre;
+        let surface = self.centre + r * (self.radius / r.norm().max(f64::MIN_POSITIVE));
+        2.0 * self.surface_velocity(surface)
+    }
+
+    fn moves(&self) -> bool {
+        self.velocity != Vec2::zeros() || self.spin != 0.0
+    }
+
+    fn tensor(&self, parent: &Sym2, normal: &Vec2) -> Sym2 {
+        NoSlip {
+            tensor: self.tensor,
+        }
+        .tensor(parent, normal)
+    }
+}

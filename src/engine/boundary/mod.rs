@@ -11,7 +11,7 @@ pub mod condition;
 pub mod inflow;
 pub mod shape;
 
-pub use condition::{NoSlip, SlidingNoSlip, TensorMirror, WallCondition};
+pub use condition::{NoSlip, RigidNoSlip, SlidingNoSlip, TensorMirror, WallCondition};
 pub use shape::{Circle, Plane, Shape};
 
 use crate::engine::math::{Sym2, Vec2};
@@ -90,6 +90,13 @@ impl Ghosts {
             walls,
             ..Default::default()
         }
+    }
+
+    /// Replaces wall `k` (a body that moved); its mirrors follow at the next [`Self::build`].
+    pub fn set_wall(&mut self, k: usize, wall: Wall) {
+        self.velocity_sign[k] = wall.condition.velocity_sign();
+        self.pressure_sign[k] = wall.condition.pressure_sign();
+        self.walls[k] = wall;
     }
 
     /// Whether any ghost carries a volume other than its parent's.

@@ -67,6 +67,32 @@ impl Simulation {
                 p.x, p.y
             ));
         }
+        self.check_discs().or_else(fail)
+    }
+
+    /// The discs stay inside the box, one kernel support from the walls, the periodic ends
+    /// (mirrors across a circle are not wrapped: a disc crossing x = 0 or L is not modelled
+    /// yet) and each other (no contact model yet).
+    fn check_discs(&self) -> Result<(), String> {
+        let discs = &self.stages.bodies.discs;
+        let (d, support) = (&self.domain, self.kernel.support());
+        for (k, disc) in discs.iter().enumerate() {
+            let (c, r) = (disc.circle.centre, disc.circle.radius);
+            if (0..2).any(|a| c[a] - r < d.min[a] + support || c[a] + r > d.max[a] - support) {
+                return Err(format!(
+                    "disc {k} at ({:.4}, {:.4}) came within a kernel support of a wall or a periodic end",
+                    c.x, c.y
+                ));
+            }
+            for (m, other) in discs.iter().enumerate().skip(k + 1) {
+                let gap = (c - other.circle.centre).norm() - r - other.circle.radius;
+                if gap < support {
+                    return Err(format!(
+                        "discs {k} and {m} came within a kernel support ({gap:.4})"
+                    ));
+                }
+            }
+        }
         Ok(())
     }
 }

@@ -20,6 +20,8 @@ mod checks;
 pub use crate::engine::ordering::REORDER_INTERVAL;
 pub use crate::engine::state::{Breakdown, Scales, State, StepReport};
 
+use crate::engine::bodies::traction::FluidView;
+use crate::engine::bodies::{Bodies, Coupling, Disc, DiscMotion};
 use crate::engine::boundary::inflow::Inflow;
 use crate::engine::boundary::{Ghosts, Wall};
 use crate::engine::drive::{bulk_velocity, Drive};
@@ -62,6 +64,8 @@ pub struct Setup {
     pub free_surface: bool,
     /// An inflow buffer (jets).
     pub inflow: Option<Inflow>,
+    /// Rigid discs, prescribed or free (their walls are added after `walls`).
+    pub discs: Vec<Disc>,
 }
 
 /// The stage objects of the step, built once from the scheme.
@@ -78,6 +82,8 @@ struct Stages {
     /// ν of the viscous term: (β + α_V)η0/ρ (η0/ρ for a Newtonian fluid).
     nu: f64,
     velocity_star: Vec<Vec2>,
+    /// The rigid discs and the walls they own.
+    bodies: Bodies,
     projection: ProjectionStage,
     pressure: PressureStage,
 }
@@ -108,7 +114,9 @@ impl Simulation {
         } else {
             Vec::new()
         };
-        let ghosts = Ghosts::new(setup.walls);
+        let mut walls = setup.walls;
+        let bodies = Bodies::new(setup.discs, scheme.wall_conformation, &mut walls);
+        let ghosts = Ghosts::new(walls);
         // Free surfaces take the positive divergence form of (20) with L = I.
         let form = if setup.free_surface {
             DivergenceForm::Positive
@@ -134,6 +142,7 @@ impl Simulation {
             viscous: scheme.viscosity.stage(),
             nu: scheme.viscosity_nu(&fluid),
             velocity_star: Vec::new(),
+            bodies,
             projection: ProjectionStage::new(scheme.projection),
             pressure: PressureStage::new(scheme.ppe, scheme.frame),
         };
@@ -256,6 +265,9 @@ impl Simulation {
         let (stable, wave_speed) = self.step_limit();
         let dt = stable.min(dt_max);
         self.intermediate_positions(dt);
+        if !self.stages.bodies.is_empty() {
+            self.stages.bodies.apply(&mut self.stages.hood.ghosts);
+        }
         self.neighbourhoods();
         self.kinematics(dt);
         self.constitutive_update(dt);
@@ -263,6 +275,7 @@ impl Simulation {
         let ppe = self.pressure_poisson(dt)?;
         self.projection(dt);
         self.final_positions(dt);
+        self.move_bodies(dt);
         let dv = self.particle_volume();
         let (s, domain) = (&mut self.state, &self.domain);
         let bulk = || bulk_velocity(&s.velocity, dv, domain);
@@ -280,6 +293,35 @@ impl Simulation {
             elastic_courant: dt * wave_speed / self.kernel.h(),
             viscous_iterations,
         })
+    }
+
+    /// After step 7: the discs' loads from the new state, then their motion.
+    fn move_bodies(&mut self, dt: f64) {
+        if self.stages.bodies.is_empty() {
+            return;
+        }
+        let view = FluidView {
+            state: &self.state,
+            kernel: &self.kernel,
+            domain: &self.domain,
+            fluid: &self.fluid,
+        };
+        let g = self.state.body_force;
+        let fluid = &self.fluid;
+        let elastic = if fluid.model.is_viscoelastic() && fluid.relaxation_time > 0.0 {
+            fluid.polymer_viscosity() / fluid.relaxation_time * dt
+        } else {
+            0.0
+        };
+        let coupling = Coupling {
+            fluid_density: fluid.density,
+            response_viscosity: fluid.solvent_viscosity() + elastic,
+            spacing: self.spacing,
+            dt,
+        };
+        let bodies = &mut self.stages.bodies;
+        self.timers
+            .time(Stage::Bodies, || bodies.advance(view, g, &coupling));
     }
 
     /// Step 1: r*, eq. (23).
@@ -529,6 +571,18 @@ impl Simulation {
             return vec![0.0; n];
         }
         grad_u.iter().map(|g| g[(1, 0)] - g[(0, 1)]).collect()
+    }
+
+    /// The rigid discs (V^n, Ω^n, c^n) and the loads of the last step.
+    pub fn bodies(&self) -> &Bodies {
+        &self.stages.bodies
+    }
+
+    /// Sets the discs' motion (a checkpoint's), in order.
+    pub fn restore_discs(&mut self, discs: &[DiscMotion]) {
+        for (d, m) in self.stages.bodies.discs.iter_mut().zip(discs) {
+            d.set_motion(m);
+        }
     }
 
     /// The solid walls that create mirror particles.

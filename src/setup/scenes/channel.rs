@@ -2,6 +2,7 @@
 //! x, driven by a body force along x and/or by the walls sliding along x (plane Couette
 //! flow); with a cylinder, the periodic cylinder array.
 
+use super::discs::{check_apart, DiscPlan, DiscSpec};
 use super::{
     check_box, check_memory, check_periodic_length, finite_force, support_in_dr, Scene, SceneBox,
 };
@@ -43,6 +44,9 @@ pub struct ChannelSpec {
     /// The walls' velocities along x, [bottom (y = 0), top (y = H)]: plane Couette flow.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub wall_velocity: Option<[f64; 2]>,
+    /// Rigid discs in the flow (`[[scene.discs]]`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub discs: Vec<DiscSpec>,
 }
 
 /// `[scene.cylinder]`.
@@ -69,6 +73,7 @@ pub struct Channel {
     pub mean_flow: Option<f64>,
     /// Wall velocities along x at y = 0 and y = H.
     pub wall_velocity: [f64; 2],
+    pub discs: Vec<DiscPlan>,
 }
 
 impl ChannelSpec {
@@ -128,6 +133,15 @@ impl ChannelSpec {
             }
             Some(u) => Some(positive("scene.mean_flow", u)?),
         };
+        let bounds = (self.length, self.height, self.resolution);
+        let discs = self
+            .discs
+            .iter()
+            .enumerate()
+            .map(|(k, d)| d.validate(k, bounds))
+            .collect::<Result<Vec<_>, _>>()?;
+        let support = support_in_dr() * self.height / self.resolution as f64;
+        check_apart(&discs, cylinder, support)?;
         Ok(Channel {
             bounds: SceneBox {
                 length: self.length,
@@ -140,60 +154,70 @@ impl ChannelSpec {
             cylinder,
             mean_flow,
             wall_velocity,
+            discs,
         })
     }
 }
 
 impl CylinderSpec {
     fn validate(&self, length: f64, height: f64, resolution: usize) -> Result<Circle, FieldError> {
-        let radius = positive("scene.cylinder.radius", self.radius)?;
         let centre = self.centre.unwrap_or([0.5 * length, 0.5 * height]);
-        let support = support_in_dr() * height / resolution as f64;
-        // Mirrors reach one kernel support into the cylinder and must stay on their side of
-        // its centre; the gaps to the walls must hold the support too.
-        if radius < 2.0 * support {
-            return Err(field_err(
-                "scene.cylinder.radius",
-                format!(
-                    "must be at least two kernel supports ({:.4}) at this resolution, got {radius}",
-                    2.0 * support
-                ),
-            ));
-        }
-        let gap = (centre[1] - radius).min(height - centre[1] - radius);
-        if !(centre[0].is_finite() && centre[1].is_finite())
-            || gap < support
-            || centre[0] < 0.0
-            || centre[0] > length
-        {
-            return Err(field_err(
-                "scene.cylinder.centre",
-                format!("the cylinder must lie inside the box with at least one kernel support ({support:.4}) to each wall"),
-            ));
-        }
-        if 2.0 * radius + 2.0 * support > length {
-            return Err(field_err(
-                "scene.cylinder.radius",
-                "the cylinder does not fit in the periodic length",
-            ));
-        }
-        Ok(Circle {
-            centre: Vec2::new(centre[0], centre[1]),
-            radius,
-        })
+        let bounds = (length, height, resolution);
+        circle_in_box("scene.cylinder", self.radius, centre, bounds)
     }
+}
+
+/// A circle of `radius` about `centre` (fields `<field>.radius`, `<field>.centre`) checked to
+/// lie in the channel `(length, height, resolution)`: at least two kernel supports in radius
+/// (mirrors reach one support into it and must stay on their side of its centre), one
+/// support from each wall, and fitting the periodic length.
+pub(crate) fn circle_in_box(
+    field: &str,
+    radius: f64,
+    centre: [f64; 2],
+    (length, height, resolution): (f64, f64, usize),
+) -> Result<Circle, FieldError> {
+    let radius_field = format!("{field}.radius");
+    let radius = positive(&radius_field, radius)?;
+    let support = support_in_dr() * height / resolution as f64;
+    if radius < 2.0 * support {
+        return Err(field_err(
+            &radius_field,
+            format!(
+                "must be at least two kernel supports ({:.4}) at this resolution, got {radius}",
+                2.0 * support
+            ),
+        ));
+    }
+    let gap = (centre[1] - radius).min(height - centre[1] - radius);
+    if !(centre[0].is_finite() && centre[1].is_finite())
+        || gap < support
+        || centre[0] < 0.0
+        || centre[0] > length
+    {
+        return Err(field_err(
+            &format!("{field}.centre"),
+            format!("the circle must lie inside the box with at least one kernel support ({support:.4}) to each wall"),
+        ));
+    }
+    if 2.0 * radius + 2.0 * support > length {
+        return Err(field_err(
+            &radius_field,
+            "the circle does not fit in the periodic length",
+        ));
+    }
+    Ok(Circle {
+        centre: Vec2::new(centre[0], centre[1]),
+        radius,
+    })
 }
 
 impl Channel {
     /// Whether a lattice point holds a fluid particle: outside the cylinder by at least
     /// 0.1δr (a closer particle's mirror would nearly coincide with it).
     fn is_fluid(&self, p: &Vec2) -> bool {
-        match self.cylinder {
-            None => true,
-            Some(c) => {
-                (p.x - c.centre.x).hypot(p.y - c.centre.y) - c.radius >= 0.1 * self.spacing()
-            }
-        }
+        let clear = |c: &Circle| c.distance(p) >= 0.1 * self.spacing();
+        self.cylinder.iter().all(clear) && self.discs.iter().all(|d| clear(&d.circle))
     }
 
     fn positions(&self) -> Vec<Vec2> {
@@ -218,10 +242,18 @@ impl Scene for Channel {
         self.cylinder.map_or(self.bounds.height, |c| c.radius)
     }
 
-    /// The nominal mean velocity with a cylinder; else the larger of the Oldroyd-B steady
-    /// centre-line velocity ρgH²/(8η0) and the fastest wall's speed.
+    /// The nominal mean velocity with a cylinder; else the largest of the Oldroyd-B steady
+    /// centre-line velocity ρgH²/(8η0), the fastest wall's speed and the fastest disc
+    /// surface's given speed |V| + |Ω|R.
     fn velocity_scale(&self, f: &Fluid) -> f64 {
-        let walls = self.wall_velocity[0].abs().max(self.wall_velocity[1].abs());
+        let discs = self
+            .discs
+            .iter()
+            .map(|d| d.velocity.norm() + d.spin.abs() * d.circle.radius);
+        let walls = discs.fold(
+            self.wall_velocity[0].abs().max(self.wall_velocity[1].abs()),
+            f64::max,
+        );
         match self.cylinder {
             Some(_) => self.velocity,
             None => {
@@ -236,9 +268,10 @@ impl Scene for Channel {
     }
 
     fn particles(&self) -> usize {
-        match self.cylinder {
-            None => self.columns * self.bounds.resolution,
-            Some(_) => self.positions().len(),
+        if self.cylinder.is_none() && self.discs.is_empty() {
+            self.columns * self.bounds.resolution
+        } else {
+            self.positions().len()
         }
     }
 
@@ -283,6 +316,7 @@ impl Scene for Channel {
             scales,
             free_surface: false,
             inflow: None,
+            discs: self.discs.iter().map(|d| d.disc(fluid.density)).collect(),
         }
     }
 
@@ -328,5 +362,18 @@ impl Scene for Channel {
 
     fn cylinder(&self) -> Option<Circle> {
         self.cylinder
+    }
+
+    fn discs(&self) -> usize {
+        self.discs.len()
+    }
+
+    fn moving_bodies(&self) -> bool {
+        self.discs.iter().any(DiscPlan::moves)
+    }
+
+    fn wall_shear_rate(&self) -> Option<f64> {
+        let [bottom, top] = self.wall_velocity;
+        (top != bottom).then(|| (top - bottom) / self.bounds.height)
     }
 }

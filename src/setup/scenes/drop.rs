@@ -149,6 +149,7 @@ impl Scene for Drop {
             scales,
             free_surface: true,
             inflow: None,
+            discs: Vec::new(),
         }
     }
 

@@ -157,6 +157,7 @@ impl Scene for Jet {
             scales,
             free_surface: true,
             inflow: Some(inflow),
+            discs: Vec::new(),
         }
     }
 

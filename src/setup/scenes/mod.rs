@@ -7,6 +7,7 @@
 //! with its two match arms in [`SceneSpec`] below.
 
 pub mod channel;
+pub mod discs;
 pub mod drop;
 pub mod jet;
 pub mod taylor_green;
@@ -158,6 +159,18 @@ pub trait Scene: fmt::Debug + Send + Sync {
     }
     /// A solid cylinder in the flow, whose drag and wake the run reports.
     fn cylinder(&self) -> Option<Circle> {
+        None
+    }
+    /// How many rigid discs the scene holds (`[[scene.discs]]`).
+    fn discs(&self) -> usize {
+        0
+    }
+    /// Whether a disc moves or may move (its mirrors must follow the particles' frame).
+    fn moving_bodies(&self) -> bool {
+        false
+    }
+    /// The shear rate the walls impose, (u_top − u_bottom)/H, when they slide apart.
+    fn wall_shear_rate(&self) -> Option<f64> {
         None
     }
     fn drop_shape(&self) -> Option<DropShape> {

@@ -115,6 +115,7 @@ impl Scene for TaylorGreen {
             scales,
             free_surface: false,
             inflow: None,
+            discs: Vec::new(),
         }
     }
 

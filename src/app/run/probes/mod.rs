@@ -6,6 +6,7 @@
 //! that decides when it applies.
 
 pub mod cylinder;
+pub mod disc;
 pub mod drop;
 pub mod jet;
 pub mod steady;
@@ -71,6 +72,9 @@ impl Probes {
         }
         if let Some(j) = scene.jet_shape() {
             probes.push(Box::new(jet::JetProbe::new(j.width)));
+        }
+        if scene.discs() > 0 {
+            probes.push(Box::new(disc::DiscProbe::new(scene.wall_shear_rate())));
         }
         Self(probes)
     }

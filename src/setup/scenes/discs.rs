@@ -1,0 +1,139 @@
+//! `[[scene.discs]]`: rigid discs in a channel (see [`crate::engine::bodies`]), each with its
+//! motion: `fixed`, `prescribed` (constant `velocity` and `spin`: towed or turned),
+//! `free-rotation` (centre held, spin free) or `free` (translating and spinning under the
+//! fluid's load; `density_ratio` ρ_s/ρ_f).
+
+use super::channel::circle_in_box;
+use crate::engine::bodies::{Disc, Motion};
+use crate::engine::boundary::Circle;
+use crate::engine::math::Vec2;
+use crate::setup::error::{field_err, positive, FieldError};
+use serde::{Deserialize, Serialize};
+
+/// One `[[scene.discs]]` table.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DiscSpec {
+    pub radius: f64,
+    pub centre: [f64; 2],
+    /// `fixed`, `prescribed`, `free-rotation` or `free` (default).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub motion: Option<String>,
+    /// V: constant when prescribed, initial when free.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub velocity: Option<[f64; 2]>,
+    /// Ω (counter-clockwise): constant when prescribed, initial when free.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub spin: Option<f64>,
+    /// ρ_s/ρ_f (default 1, neutrally buoyant).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub density_ratio: Option<f64>,
+}
+
+/// A validated disc; its density is `density_ratio` times the fluid's, set at build.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DiscPlan {
+    pub circle: Circle,
+    pub velocity: Vec2,
+    pub spin: f64,
+    pub density_ratio: f64,
+    pub motion: Motion,
+}
+
+impl DiscPlan {
+    pub fn disc(&self, fluid_density: f64) -> Disc {
+        Disc {
+            circle: self.circle,
+            velocity: self.velocity,
+            spin: self.spin,
+            density: self.density_ratio * fluid_density,
+            motion: self.motion,
+            acceleration: Vec2::zeros(),
+        }
+    }
+
+    /// Whether its mirrors must follow it (it moves or may move).
+    pub fn moves(&self) -> bool {
+        self.motion != Motion::Prescribed || self.velocity != Vec2::zeros()
+    }
+}
+
+impl DiscSpec {
+    pub fn validate(&self, k: usize, bounds: (f64, f64, usize)) -> Result<DiscPlan, FieldError> {
+        let field = format!("scene.discs[{k}]");
+        let circle = circle_in_box(&field, self.radius, self.centre, bounds)?;
+        let support = super::support_in_dr() * bounds.1 / bounds.2 as f64;
+        let (x, r) = (circle.centre.x, circle.radius);
+        if x - r < support || x + r > bounds.0 - support {
+            return Err(field_err(
+                &format!("{field}.centre"),
+                format!("a disc must keep one kernel support ({support:.4}) from the periodic ends x = 0 and x = length (its mirrors are not wrapped)"),
+            ));
+        }
+        let motion = match self.motion.as_deref().unwrap_or("free") {
+            "fixed" | "prescribed" => Motion::Prescribed,
+            "free-rotation" => Motion::FreeRotation,
+            "free" => Motion::Free,
+            other => {
+                return Err(field_err(
+                    &format!("{field}.motion"),
+                    format!(
+                        "expected `fixed`, `prescribed`, `free-rotation` or `free`, got `{other}`"
+                    ),
+                ))
+            }
+        };
+        let fixed = self.motion.as_deref() == Some("fixed");
+        if fixed && (self.velocity.is_some() || self.spin.is_some()) {
+            return Err(field_err(
+                &format!("{field}.motion"),
+                "a fixed disc has no velocity or spin (use `prescribed`)",
+            ));
+        }
+        let velocity = self.velocity.unwrap_or([0.0, 0.0]);
+        let spin = self.spin.unwrap_or(0.0);
+        if !velocity.iter().all(|v| v.is_finite()) {
+            return Err(field_err(&format!("{field}.velocity"), "must be finite"));
+        }
+        if !spin.is_finite() {
+            return Err(field_err(&format!("{field}.spin"), "must be finite"));
+        }
+        let density_ratio = match self.density_ratio {
+            None => 1.0,
+            Some(r) => positive(&format!("{field}.density_ratio"), r)?,
+        };
+        if motion == Motion::Free && density_ratio < 1.0 {
+            return Err(field_err(
+                &format!("{field}.density_ratio"),
+                format!("a free disc lighter than the fluid ({density_ratio}) meets the added-mass instability of the explicit coupling; at least 1"),
+            ));
+        }
+        Ok(DiscPlan {
+            circle,
+            velocity: Vec2::new(velocity[0], velocity[1]),
+            spin,
+            density_ratio,
+            motion,
+        })
+    }
+}
+
+/// The discs must not overlap each other or the cylinder (one kernel support apart).
+pub fn check_apart(
+    discs: &[DiscPlan],
+    cylinder: Option<Circle>,
+    support: f64,
+) -> Result<(), FieldError> {
+    let circles: Vec<Circle> = discs.iter().map(|d| d.circle).chain(cylinder).collect();
+    for (a, ca) in circles.iter().enumerate() {
+        for cb in &circles[a + 1..] {
+            if (ca.centre - cb.centre).norm() < ca.radius + cb.radius + support {
+                return Err(field_err(
+                    &format!("scene.discs[{a}].centre"),
+                    format!("closer than one kernel support ({support:.4}) to another disc or the cylinder"),
+                ));
+            }
+        }
+    }
+    Ok(())
+}

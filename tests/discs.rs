@@ -1,0 +1,122 @@
+//! Rigid discs: a freely rotating Newtonian disc in plane Couette flow turns with the fluid,
+//! a towed disc's force is the fluid's momentum change, and a disc's motion survives a
+//! checkpoint bit for bit.
+
+use rheosph::analysis::forces::view;
+use rheosph::app::run::checkpoint;
+use rheosph::engine::bodies::traction::on_plane_wall;
+use rheosph::engine::math::Vec2;
+use rheosph::engine::step::Simulation;
+use rheosph::setup::case::{self, Case};
+
+const DISC_IN_SHEAR: &str = include_str!("../cases/disc-in-shear.toml");
+
+fn disc_in_shear(overrides: &[&str]) -> Case {
+    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    case::parse(DISC_IN_SHEAR, "cases/disc-in-shear.toml", "disc", &o).unwrap()
+}
+
+/// The shipped case at R/δr = 8 (3 888 particles) to t = 6, where the spin has been steady
+/// for ~3 time units (the Couette profile forms in H²/(π²ν) = 0.65): Ω/(−γ̇/2) over the
+/// second half is 1 in unbounded Stokes flow; measured 0.984 here, with the confinement
+/// 2R/H = 0.25 and the discretisation (R/δr = 8 is the smallest radius the mirrors allow)
+/// both in it (README: 0.98x at R/δr = 12, 0.99x with 2R/H = 0.125). Bound: 3 %.
+#[test]
+fn free_disc_turns_with_the_shear() {
+    let case = disc_in_shear(&["run.end_time=6"]);
+    let mut sim = Simulation::new(case.setup());
+    let shear = 2.0 / 8.0;
+    let mut late = Vec::new();
+    while sim.state.time < 6.0 {
+        sim.step(f64::INFINITY).unwrap();
+        if sim.state.time >= 3.0 {
+            late.push(sim.bodies().discs[0].spin);
+        }
+    }
+    let ratio = late.iter().sum::<f64>() / late.len() as f64 / (-0.5 * shear);
+    eprintln!("rotation ratio {ratio:.4}");
+    assert!((ratio - 1.0).abs() < 0.03, "Ω/(−γ̇/2) = {ratio}");
+    let spread = late
+        .iter()
+        .fold(0.0f64, |m, s| m.max((s / (-0.5 * shear) - ratio).abs()));
+    assert!(spread < 0.01, "the spin still varies by {spread}");
+    let d = &sim.bodies().discs[0];
+    assert_eq!(d.circle.centre, Vec2::new(4.0, 4.0), "the centre is held");
+}
+
+/// A disc towed at V = (1, 0) through fluid at rest between walls at rest: the fluid's
+/// momentum changes by what the disc and the walls push into it, dP/dt = −(F_disc + F_floor +
+/// F_lid), each force from its own surface fit (the walls' fit gives η γ̇ L within 0.2 % in
+/// plane Couette flow). Over t ∈ [0.5, 1.5] the flow is nearly steady, the disc's drag of
+/// ~48 against the walls' ~45: the balance is a small difference of large forces. Its
+/// mismatch is a discretisation error of the mirrored boundary that falls with resolution
+/// (measured 6.7 % of the drag at R/δr = 8, 4.7 % at 12; with the standard projection's
+/// O(νδt/L²) splitting error the disc's pressure force doubles and the mismatch is 115 %,
+/// which is why bodies take the incremental one). Bound: 10 % of the drag's impulse.
+#[test]
+fn towed_disc_force_is_the_fluids_momentum_change() {
+    let text = DISC_IN_SHEAR
+        .replace("wall_velocity = [-1.0, 1.0]", "body_force = [0.0, 0.0]")
+        .replace("centre = [4.0, 4.0]", "centre = [3.0, 4.0]")
+        .replace(
+            "motion = \"free-rotation\"",
+            "motion = \"prescribed\"\nvelocity = [1.0, 0.0]",
+        );
+    let case = case::parse(&text, "towed.toml", "towed", &[]).unwrap();
+    let mut sim = Simulation::new(case.setup());
+    let mass = sim.fluid.density * sim.particle_volume();
+    let momentum = |sim: &Simulation| mass * sim.state.velocity.iter().map(|u| u.x).sum::<f64>();
+    // (the push of disc and walls on the fluid, the disc's drag)
+    let forces = |sim: &Simulation| {
+        let v = view(sim);
+        let floor = on_plane_wall(v, 0.0, 8.0, Vec2::zeros(), 256).total().x;
+        let lid = on_plane_wall(v, 8.0, 8.0, Vec2::zeros(), 256).total().x;
+        let disc = sim.bodies().loads[0].force.total().x;
+        (-(disc + floor + lid), disc.abs())
+    };
+    while sim.state.time < 0.5 {
+        sim.step(f64::INFINITY).unwrap();
+    }
+    let p0 = momentum(&sim);
+    let (mut impulse, mut drag, mut last) = (0.0, 0.0, forces(&sim));
+    while sim.state.time < 1.5 {
+        let report = sim.step(f64::INFINITY).unwrap();
+        let now = forces(&sim);
+        impulse += 0.5 * (last.0 + now.0) * report.dt;
+        drag += 0.5 * (last.1 + now.1) * report.dt;
+        last = now;
+    }
+    let gained = momentum(&sim) - p0;
+    eprintln!("momentum gained {gained:.4}, impulse {impulse:.4}, drag impulse {drag:.4}");
+    assert!(drag > 40.0, "the disc's drag impulse {drag}");
+    assert!(
+        (gained - impulse).abs() < 0.1 * drag,
+        "{gained} against {impulse}"
+    );
+    let x = sim.bodies().discs[0].circle.centre.x;
+    assert!((x - 3.0 - sim.state.time).abs() < 1e-12, "towed to {x}");
+}
+
+/// A free disc's centre, velocity, spin and acceleration go through a checkpoint: the
+/// restored simulation steps on bit for bit.
+#[test]
+fn disc_motion_survives_a_checkpoint() {
+    let text = DISC_IN_SHEAR.replace("motion = \"free-rotation\"", "motion = \"free\"");
+    let case = case::parse(&text, "free.toml", "free", &[]).unwrap();
+    let mut a = Simulation::new(case.setup());
+    for _ in 0..5 {
+        a.step(f64::INFINITY).unwrap();
+    }
+    let bytes = checkpoint::encode(&a);
+    // As the run loop does at every checkpoint: both start the same preconditioner history.
+    a.reset_preconditioners();
+    let mut b = Simulation::new(case.setup());
+    checkpoint::restore(&mut b, &bytes).unwrap();
+    assert_eq!(a.bodies().discs, b.bodies().discs);
+    for _ in 0..3 {
+        a.step(f64::INFINITY).unwrap();
+        b.step(f64::INFINITY).unwrap();
+    }
+    assert_eq!(a.bodies().discs, b.bodies().discs);
+    assert_eq!(a.state.velocity, b.state.velocity);
+}
