@@ -101,7 +101,11 @@ pub fn interpolate(sim: &Simulation, target_spacing: f64) -> GridFields {
     let fields = particle_fields(sim);
     let values: Vec<&[f64]> = fields.iter().map(|(_, v)| v.as_slice()).collect();
     let cells = Cells::new(&sim.domain, &sim.state.position, sim.kernel.support());
-    let solid = |x: &Vec2| sim.walls().iter().any(|w| w.shape.distance(x) < 0.0);
+    let solid = |x: &Vec2| {
+        sim.walls()
+            .iter()
+            .any(|w| w.distance_in(x, &sim.domain) < 0.0)
+    };
     let weights = Weights {
         kernel: &sim.kernel,
         domain: &sim.domain,

@@ -65,6 +65,7 @@ impl Neighbourhood {
         if !moving && self.valid {
             return false;
         }
+        self.ghosts.domain = Some(*domain);
         self.ghosts.build(kernel.support(), &mut self.points);
         self.search
             .build(domain, &self.points, n, kernel.support(), &mut self.list);

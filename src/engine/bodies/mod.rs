@@ -25,6 +25,7 @@ pub mod traction;
 
 use crate::engine::boundary::{Circle, Ghosts, RigidNoSlip, Shape, TensorMirror, Wall};
 use crate::engine::math::Vec2;
+use crate::engine::neighbours::Domain;
 use std::sync::Arc;
 use traction::{FluidView, Load};
 
@@ -73,6 +74,8 @@ pub struct Coupling {
     /// δr.
     pub spacing: f64,
     pub dt: f64,
+    /// The box (a disc's centre wraps across its periodic ends).
+    pub domain: Domain,
 }
 
 impl Disc {
@@ -130,7 +133,7 @@ impl Disc {
                 self.velocity += dv;
             }
         }
-        self.circle.centre += dt * self.velocity;
+        self.circle.centre = c.domain.wrap(self.circle.centre + dt * self.velocity);
     }
 }
 

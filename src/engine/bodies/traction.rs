@@ -149,7 +149,10 @@ pub fn on_circle(
     let support = view.kernel.support();
     // Particles that can be within one support of the surface.
     let near: Vec<usize> = (0..s.position.len())
-        .filter(|&i| circle.distance(&s.position[i]) < support)
+        .filter(|&i| {
+            let d = view.domain.min_image(s.position[i] - circle.centre);
+            d.norm() - circle.radius < support
+        })
         .collect();
     let arc = 2.0 * std::f64::consts::PI * circle.radius / samples as f64;
     let mut load = Load::default();

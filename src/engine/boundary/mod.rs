@@ -15,6 +15,7 @@ pub use condition::{NoSlip, RigidNoSlip, SlidingNoSlip, TensorMirror, WallCondit
 pub use shape::{Circle, Plane, Shape};
 
 use crate::engine::math::{Sym2, Vec2};
+use crate::engine::neighbours::Domain;
 use std::sync::Arc;
 
 /// A solid wall: a shape with a condition.
@@ -48,6 +49,12 @@ impl Wall {
     pub fn distance(&self, p: &Vec2) -> f64 {
         self.shape.distance(p)
     }
+
+    /// Signed distance of `p`'s periodic image nearest the wall.
+    pub fn distance_in(&self, p: &Vec2, domain: &Domain) -> f64 {
+        self.shape
+            .distance(&self.shape.nearest_image(p, Some(domain)))
+    }
 }
 
 /// The field a mirror value belongs to (for the linear factor of its condition).
@@ -74,6 +81,8 @@ pub struct Ghosts {
     /// Each wall's s and s_p (see [`condition`]).
     velocity_sign: Vec<f64>,
     pressure_sign: Vec<f64>,
+    /// The box whose periodic axes circles are seen across (None: no periodic images).
+    pub domain: Option<Domain>,
 }
 
 impl Ghosts {
@@ -122,28 +131,26 @@ impl Ghosts {
         self.volume.clear();
         self.normal.clear();
         self.offset.clear();
+        let moving = self.walls.iter().any(|w| w.condition.moves());
         let n_fluid = points.len();
         for i in 0..n_fluid {
             for (w, wall) in self.walls.iter().enumerate() {
                 let shape = &wall.shape;
-                if shape.distance(&points[i]) < reach {
-                    let q = shape.reflect(&points[i]);
-                    self.volume.push(shape.volume_ratio(&points[i]));
-                    self.normal.push(shape.normal(&points[i]));
-                    points.push(q);
+                // A circle sees the particle's periodic image nearest its centre; the mirror
+                // goes back into the box.
+                let p = shape.nearest_image(&points[i], self.domain.as_ref());
+                if shape.distance(&p) < reach {
+                    let q = shape.reflect(&p);
+                    self.volume.push(shape.volume_ratio(&p));
+                    self.normal.push(shape.normal(&p));
+                    if moving {
+                        self.offset.push(wall.condition.velocity_offset(q));
+                    }
+                    points.push(self.domain.map_or(q, |d| d.wrap(q)));
                     self.parent.push(i as u32);
                     self.wall.push(w as u16);
                 }
             }
-        }
-        if self.walls.iter().any(|w| w.condition.moves()) {
-            let first = points.len() - self.parent.len();
-            self.offset.extend(
-                self.wall
-                    .iter()
-                    .zip(&points[first..])
-                    .map(|(&w, q)| self.walls[w as usize].condition.velocity_offset(*q)),
-            );
         }
     }
 

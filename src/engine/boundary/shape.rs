@@ -2,6 +2,7 @@
 //! construction needs (signed distance, reflection, the mirrored volume ratio, the normal).
 
 use crate::engine::math::Vec2;
+use crate::engine::neighbours::Domain;
 
 /// A straight wall normal to `axis` at `position`, the fluid on the side `fluid_side` (+1: the
 /// fluid occupies coordinates above `position`).
@@ -78,6 +79,15 @@ pub enum Shape {
 }
 
 impl Shape {
+    /// The periodic image of `p` nearest a circle's centre (`p` itself for a plane, or
+    /// without a domain).
+    pub fn nearest_image(&self, p: &Vec2, domain: Option<&Domain>) -> Vec2 {
+        match (self, domain) {
+            (Shape::Circle(c), Some(d)) => c.centre + d.min_image(p - c.centre),
+            _ => *p,
+        }
+    }
+
     pub fn distance(&self, p: &Vec2) -> f64 {
         match self {
             Shape::Plane(w) => w.distance(p),

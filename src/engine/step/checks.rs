@@ -60,7 +60,7 @@ impl Simulation {
         if let Some(p) = s
             .position
             .par_iter()
-            .find_any(|p| walls.iter().any(|w| w.distance(p) <= 0.0))
+            .find_any(|p| walls.iter().any(|w| w.distance_in(p, &self.domain) <= 0.0))
         {
             return fail(format!(
                 "a particle crossed a wall at ({:.4}, {:.4})",
@@ -70,22 +70,24 @@ impl Simulation {
         self.check_discs().or_else(fail)
     }
 
-    /// The discs stay inside the box, one kernel support from the walls, the periodic ends
-    /// (mirrors across a circle are not wrapped: a disc crossing x = 0 or L is not modelled
-    /// yet) and each other (no contact model yet).
+    /// The discs stay one kernel support from the walls and from each other (no contact
+    /// model yet); across periodic ends they pass.
     fn check_discs(&self) -> Result<(), String> {
         let discs = &self.stages.bodies.discs;
         let (d, support) = (&self.domain, self.kernel.support());
         for (k, disc) in discs.iter().enumerate() {
             let (c, r) = (disc.circle.centre, disc.circle.radius);
-            if (0..2).any(|a| c[a] - r < d.min[a] + support || c[a] + r > d.max[a] - support) {
+            let near_wall = |a: usize| {
+                !d.periodic[a] && (c[a] - r < d.min[a] + support || c[a] + r > d.max[a] - support)
+            };
+            if near_wall(0) || near_wall(1) {
                 return Err(format!(
-                    "disc {k} at ({:.4}, {:.4}) came within a kernel support of a wall or a periodic end",
+                    "disc {k} at ({:.4}, {:.4}) came within a kernel support of a wall",
                     c.x, c.y
                 ));
             }
             for (m, other) in discs.iter().enumerate().skip(k + 1) {
-                let gap = (c - other.circle.centre).norm() - r - other.circle.radius;
+                let gap = d.min_image(c - other.circle.centre).norm() - r - other.circle.radius;
                 if gap < support {
                     return Err(format!(
                         "discs {k} and {m} came within a kernel support ({gap:.4})"

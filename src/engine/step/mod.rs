@@ -318,6 +318,7 @@ impl Simulation {
             response_viscosity: fluid.solvent_viscosity() + elastic,
             spacing: self.spacing,
             dt,
+            domain: self.domain,
         };
         let bodies = &mut self.stages.bodies;
         self.timers

@@ -216,7 +216,13 @@ impl Channel {
     /// Whether a lattice point holds a fluid particle: outside the cylinder by at least
     /// 0.1δr (a closer particle's mirror would nearly coincide with it).
     fn is_fluid(&self, p: &Vec2) -> bool {
-        let clear = |c: &Circle| c.distance(p) >= 0.1 * self.spacing();
+        let length = self.bounds.length;
+        let clear = |c: &Circle| {
+            // The image of p nearest the centre, across the periodic ends.
+            let dx = p.x - c.centre.x;
+            let dx = dx - length * (dx / length).round();
+            (dx.hypot(p.y - c.centre.y) - c.radius) >= 0.1 * self.spacing()
+        };
         self.cylinder.iter().all(clear) && self.discs.iter().all(|d| clear(&d.circle))
     }
 

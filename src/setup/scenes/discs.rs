@@ -62,14 +62,6 @@ impl DiscSpec {
     pub fn validate(&self, k: usize, bounds: (f64, f64, usize)) -> Result<DiscPlan, FieldError> {
         let field = format!("scene.discs[{k}]");
         let circle = circle_in_box(&field, self.radius, self.centre, bounds)?;
-        let support = super::support_in_dr() * bounds.1 / bounds.2 as f64;
-        let (x, r) = (circle.centre.x, circle.radius);
-        if x - r < support || x + r > bounds.0 - support {
-            return Err(field_err(
-                &format!("{field}.centre"),
-                format!("a disc must keep one kernel support ({support:.4}) from the periodic ends x = 0 and x = length (its mirrors are not wrapped)"),
-            ));
-        }
         let motion = match self.motion.as_deref().unwrap_or("free") {
             "fixed" | "prescribed" => Motion::Prescribed,
             "free-rotation" => Motion::FreeRotation,
