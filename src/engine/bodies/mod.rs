@@ -21,12 +21,14 @@
 //! m_a = ρ_f πR² is the added mass of a circle (potential flow), the classic instability of
 //! explicit coupling for light bodies; free discs are kept to ρ_s ≥ ρ_f.
 
+pub mod contact;
 pub mod traction;
 
 use crate::engine::boundary::{Circle, Ghosts, RigidNoSlip, Shape, TensorMirror, Wall};
 use crate::engine::math::Vec2;
 use crate::engine::neighbours::Domain;
 use std::sync::Arc;
+use contact::Contact;
 use traction::{FluidView, Load};
 
 /// Surface points of the load integration per disc.
@@ -116,8 +118,9 @@ impl Disc {
         self.velocity + self.spin * Vec2::new(-r.y, r.x)
     }
 
-    /// Advances V, Ω and c over one step under `load` and the body force `g` (module docs).
-    fn advance(&mut self, load: &Load, g: Vec2, c: &Coupling) {
+    /// Advances V, Ω and c over one step under `load`, a contact force and the body force
+    /// `g` (module docs).
+    fn advance(&mut self, load: &Load, contact: Vec2, g: Vec2, c: &Coupling) {
         let (r, dt) = (self.circle.radius, c.dt);
         let k = 2.0 * std::f64::consts::PI * c.response_viscosity / c.spacing;
         let spin = |d: &Self| d.spin + dt * load.torque() / (d.inertia() + dt * k * r.powi(3));
@@ -127,7 +130,8 @@ impl Disc {
             Motion::Free => {
                 self.spin = spin(self);
                 let added = c.fluid_density * std::f64::consts::PI * r * r;
-                let force = load.force.total() + self.mass() * g + added * self.acceleration;
+                let force =
+                    load.force.total() + contact + self.mass() * g + added * self.acceleration;
                 let dv = dt * force / (self.mass() + added + dt * k * r);
                 self.acceleration = dv / dt;
                 self.velocity += dv;
@@ -145,17 +149,28 @@ pub struct Bodies {
     walls: Vec<usize>,
     /// The load on each disc after the last step.
     pub loads: Vec<Load>,
+    /// The contact force on each disc in the last step (zero without contact).
+    pub contact_forces: Vec<Vec2>,
+    /// The short-range repulsion, if switched on.
+    pub contact: Option<Contact>,
     tensor: TensorMirror,
 }
 
 impl Bodies {
     /// Appends the discs' walls to `walls`.
-    pub fn new(discs: Vec<Disc>, tensor: TensorMirror, walls: &mut Vec<Wall>) -> Self {
+    pub fn new(
+        discs: Vec<Disc>,
+        contact: Option<Contact>,
+        tensor: TensorMirror,
+        walls: &mut Vec<Wall>,
+    ) -> Self {
         let first = walls.len();
         walls.extend(discs.iter().map(|d| d.wall(tensor)));
         Self {
             walls: (first..walls.len()).collect(),
             loads: vec![Load::default(); discs.len()],
+            contact_forces: vec![Vec2::zeros(); discs.len()],
+            contact,
             discs,
             tensor,
         }
@@ -181,7 +196,11 @@ impl Bodies {
 
     /// The loads of the fluid state in `view`, then the discs' motion over one step.
     pub fn advance(&mut self, view: FluidView, g: Vec2, coupling: &Coupling) {
-        for (d, load) in self.discs.iter_mut().zip(self.loads.iter_mut()) {
+        if let Some(contact) = &self.contact {
+            self.contact_forces = contact.forces(&self.discs, &coupling.domain);
+        }
+        let contacts = self.contact_forces.iter();
+        for ((d, load), &contact) in self.discs.iter_mut().zip(self.loads.iter_mut()).zip(contacts) {
             let disc = *d;
             *load = traction::on_circle(
                 view,
@@ -189,7 +208,7 @@ impl Bodies {
                 &|x| disc.surface_velocity(x),
                 TRACTION_SAMPLES,
             );
-            d.advance(load, g, coupling);
+            d.advance(load, contact, g, coupling);
         }
     }
 }

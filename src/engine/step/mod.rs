@@ -21,6 +21,7 @@ pub use crate::engine::ordering::REORDER_INTERVAL;
 pub use crate::engine::state::{Breakdown, Scales, State, StepReport};
 
 use crate::engine::bodies::traction::FluidView;
+use crate::engine::bodies::contact::Contact;
 use crate::engine::bodies::{Bodies, Coupling, Disc, DiscMotion};
 use crate::engine::boundary::inflow::Inflow;
 use crate::engine::boundary::{Ghosts, Wall};
@@ -66,6 +67,8 @@ pub struct Setup {
     pub inflow: Option<Inflow>,
     /// Rigid discs, prescribed or free (their walls are added after `walls`).
     pub discs: Vec<Disc>,
+    /// The discs' short-range repulsion, if any.
+    pub contact: Option<Contact>,
 }
 
 /// The stage objects of the step, built once from the scheme.
@@ -115,7 +118,12 @@ impl Simulation {
             Vec::new()
         };
         let mut walls = setup.walls;
-        let bodies = Bodies::new(setup.discs, scheme.wall_conformation, &mut walls);
+        let bodies = Bodies::new(
+            setup.discs,
+            setup.contact,
+            scheme.wall_conformation,
+            &mut walls,
+        );
         let ghosts = Ghosts::new(walls);
         // Free surfaces take the positive divergence form of (20) with L = I.
         let form = if setup.free_surface {

@@ -2,7 +2,8 @@
 //! x, driven by a body force along x and/or by the walls sliding along x (plane Couette
 //! flow); with a cylinder, the periodic cylinder array.
 
-use super::discs::{check_apart, DiscPlan, DiscSpec};
+use super::discs::{check_apart, ContactSpec, DiscPlan, DiscSpec};
+use crate::engine::bodies::contact::Contact;
 use super::{
     check_box, check_memory, check_periodic_length, finite_force, support_in_dr, Scene, SceneBox,
 };
@@ -47,6 +48,9 @@ pub struct ChannelSpec {
     /// Rigid discs in the flow (`[[scene.discs]]`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub discs: Vec<DiscSpec>,
+    /// The discs' short-range repulsion (`[scene.contact]`; none by default).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact: Option<ContactSpec>,
 }
 
 /// `[scene.cylinder]`.
@@ -74,6 +78,7 @@ pub struct Channel {
     /// Wall velocities along x at y = 0 and y = H.
     pub wall_velocity: [f64; 2],
     pub discs: Vec<DiscPlan>,
+    pub contact: Option<Contact>,
 }
 
 impl ChannelSpec {
@@ -142,6 +147,11 @@ impl ChannelSpec {
             .collect::<Result<Vec<_>, _>>()?;
         let support = support_in_dr() * self.height / self.resolution as f64;
         check_apart(&discs, cylinder, support)?;
+        let contact = self
+            .contact
+            .as_ref()
+            .map(|c| c.validate(support, discs.is_empty()))
+            .transpose()?;
         Ok(Channel {
             bounds: SceneBox {
                 length: self.length,
@@ -155,6 +165,7 @@ impl ChannelSpec {
             mean_flow,
             wall_velocity,
             discs,
+            contact,
         })
     }
 }
@@ -323,6 +334,7 @@ impl Scene for Channel {
             free_surface: false,
             inflow: None,
             discs: self.discs.iter().map(|d| d.disc(fluid.density)).collect(),
+            contact: self.contact,
         }
     }
 

@@ -4,6 +4,7 @@
 //! fluid's load; `density_ratio` ρ_s/ρ_f).
 
 use super::channel::circle_in_box;
+use crate::engine::bodies::contact::Contact;
 use crate::engine::bodies::{Disc, Motion};
 use crate::engine::boundary::Circle;
 use crate::engine::math::Vec2;
@@ -128,4 +129,35 @@ pub fn check_apart(
         }
     }
     Ok(())
+}
+
+/// `[scene.contact]`: the discs' short-range repulsion (see
+/// [`crate::engine::bodies::contact`]).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSpec {
+    /// F₀, force per unit length at contact.
+    pub strength: f64,
+    /// ℓ, the gap below which it acts (default: two kernel supports).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub range: Option<f64>,
+}
+
+impl ContactSpec {
+    /// The run stops when a gap falls below one kernel `support` (mirrors would overlap), so
+    /// the repulsion must reach further.
+    pub fn validate(&self, support: f64, no_discs: bool) -> Result<Contact, FieldError> {
+        if no_discs {
+            return Err(field_err("scene.contact", "there are no [[scene.discs]] to keep apart"));
+        }
+        let strength = positive("scene.contact.strength", self.strength)?;
+        let range = self.range.unwrap_or(2.0 * support);
+        if !(range > support) || !range.is_finite() {
+            return Err(field_err(
+                "scene.contact.range",
+                format!("must exceed one kernel support ({support:.4}), where the run stops, got {range}"),
+            ));
+        }
+        Ok(Contact { strength, range })
+    }
 }

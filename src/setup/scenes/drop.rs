@@ -150,6 +150,7 @@ impl Scene for Drop {
             free_surface: true,
             inflow: None,
             discs: Vec::new(),
+            contact: None,
         }
     }
 

@@ -158,6 +158,7 @@ impl Scene for Jet {
             free_surface: true,
             inflow: Some(inflow),
             discs: Vec::new(),
+            contact: None,
         }
     }
 

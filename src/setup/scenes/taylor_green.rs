@@ -116,6 +116,7 @@ impl Scene for TaylorGreen {
             free_surface: false,
             inflow: None,
             discs: Vec::new(),
+            contact: None,
         }
     }
 
