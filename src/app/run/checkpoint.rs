@@ -283,9 +283,7 @@ pub fn restore(sim: &mut Simulation, bytes: &[u8]) -> Result<(), CheckpointError
         Vec::new()
     };
     let shift_velocity = r.vec2s(n);
-    let discs: Vec<[f64; VALUES_PER_DISC]> = (0..discs / (8 * VALUES_PER_DISC))
-        .map(|_| std::array::from_fn(|_| r.f64()))
-        .collect();
+    let discs = read_discs(&mut r, discs / (8 * VALUES_PER_DISC));
     debug_assert_eq!(r.at, body.len());
     sim.restore_state(State {
         time,
@@ -297,17 +295,23 @@ pub fn restore(sim: &mut Simulation, bytes: &[u8]) -> Result<(), CheckpointError
         shift_velocity,
         body_force,
     });
-    let discs: Vec<DiscMotion> = discs
-        .iter()
-        .map(|v| DiscMotion {
-            centre: Vec2::new(v[0], v[1]),
-            velocity: Vec2::new(v[2], v[3]),
-            spin: v[4],
-            acceleration: Vec2::new(v[5], v[6]),
-        })
-        .collect();
     sim.restore_discs(&discs);
     Ok(())
+}
+
+/// The discs' block: centre, velocity, spin and acceleration of each.
+fn read_discs(r: &mut Reader, count: usize) -> Vec<DiscMotion> {
+    (0..count)
+        .map(|_| {
+            let v: [f64; VALUES_PER_DISC] = std::array::from_fn(|_| r.f64());
+            DiscMotion {
+                centre: Vec2::new(v[0], v[1]),
+                velocity: Vec2::new(v[2], v[3]),
+                spin: v[4],
+                acceleration: Vec2::new(v[5], v[6]),
+            }
+        })
+        .collect()
 }
 
 /// Writes the checkpoint of `sim` to `path` atomically.

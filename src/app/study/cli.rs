@@ -99,6 +99,14 @@ fn base_and_out(common: &StudyCommon, study: &str) -> Result<(Base, PathBuf)> {
     Ok((base, out))
 }
 
+/// Every `--vary key=v1,v2` of a study.
+fn parse_varies(vary: &[String]) -> Result<Vec<(String, Vec<String>)>> {
+    Ok(vary
+        .iter()
+        .map(|v| parse_vary(v))
+        .collect::<Result<Vec<_>, _>>()?)
+}
+
 pub fn dispatch(command: StudyCommand, quiet: bool) -> Result<()> {
     match command {
         StudyCommand::Convergence(a) => {
@@ -132,11 +140,7 @@ pub fn dispatch(command: StudyCommand, quiet: bool) -> Result<()> {
                 stability::replot(&out, a.common.figure_format, a.accuracy)?;
                 return Ok(());
             }
-            let varies = a
-                .vary
-                .iter()
-                .map(|v| parse_vary(v))
-                .collect::<Result<Vec<_>, _>>()?;
+            let varies = parse_varies(&a.vary)?;
             let rows = stability::run(
                 &base,
                 &a.wi,
@@ -156,11 +160,7 @@ pub fn dispatch(command: StudyCommand, quiet: bool) -> Result<()> {
         }
         StudyCommand::SpeedAccuracy(a) => {
             let (base, out) = base_and_out(&a.common, "speed-accuracy")?;
-            let varies = a
-                .vary
-                .iter()
-                .map(|v| parse_vary(v))
-                .collect::<Result<Vec<_>, _>>()?;
+            let varies = parse_varies(&a.vary)?;
             let points = speed_accuracy::run(
                 &base,
                 &a.resolutions,

@@ -27,8 +27,8 @@ pub mod traction;
 use crate::engine::boundary::{Circle, Ghosts, RigidNoSlip, Shape, TensorMirror, Wall};
 use crate::engine::math::Vec2;
 use crate::engine::neighbours::Domain;
-use std::sync::Arc;
 use contact::Contact;
+use std::sync::Arc;
 use traction::{FluidView, Load};
 
 /// Surface points of the load integration per disc.
@@ -200,7 +200,12 @@ impl Bodies {
             self.contact_forces = contact.forces(&self.discs, &coupling.domain);
         }
         let contacts = self.contact_forces.iter();
-        for ((d, load), &contact) in self.discs.iter_mut().zip(self.loads.iter_mut()).zip(contacts) {
+        for ((d, load), &contact) in self
+            .discs
+            .iter_mut()
+            .zip(self.loads.iter_mut())
+            .zip(contacts)
+        {
             let disc = *d;
             *load = traction::on_circle(
                 view,

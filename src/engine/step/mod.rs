@@ -20,8 +20,8 @@ mod checks;
 pub use crate::engine::ordering::REORDER_INTERVAL;
 pub use crate::engine::state::{Breakdown, Scales, State, StepReport};
 
-use crate::engine::bodies::traction::FluidView;
 use crate::engine::bodies::contact::Contact;
+use crate::engine::bodies::traction::FluidView;
 use crate::engine::bodies::{Bodies, Coupling, Disc, DiscMotion};
 use crate::engine::boundary::inflow::Inflow;
 use crate::engine::boundary::{Ghosts, Wall};

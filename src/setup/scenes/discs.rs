@@ -3,7 +3,7 @@
 //! `free-rotation` (centre held, spin free) or `free` (translating and spinning under the
 //! fluid's load; `density_ratio` ρ_s/ρ_f).
 
-use super::channel::circle_in_box;
+use super::circle_in_box;
 use crate::engine::bodies::contact::Contact;
 use crate::engine::bodies::{Disc, Motion};
 use crate::engine::boundary::Circle;
@@ -148,11 +148,14 @@ impl ContactSpec {
     /// the repulsion must reach further.
     pub fn validate(&self, support: f64, no_discs: bool) -> Result<Contact, FieldError> {
         if no_discs {
-            return Err(field_err("scene.contact", "there are no [[scene.discs]] to keep apart"));
+            return Err(field_err(
+                "scene.contact",
+                "there are no [[scene.discs]] to keep apart",
+            ));
         }
         let strength = positive("scene.contact.strength", self.strength)?;
         let range = self.range.unwrap_or(2.0 * support);
-        if !(range > support) || !range.is_finite() {
+        if range.is_nan() || range <= support || !range.is_finite() {
             return Err(field_err(
                 "scene.contact.range",
                 format!("must exceed one kernel support ({support:.4}), where the run stops, got {range}"),

@@ -301,3 +301,48 @@ pub(crate) fn finite_force(g: [f64; 2]) -> Result<Vec2, FieldError> {
     }
     Ok(Vec2::new(g[0], g[1]))
 }
+
+/// A circle of `radius` about `centre` (fields `<field>.radius`, `<field>.centre`) checked to
+/// lie in the channel `(length, height, resolution)`: at least two kernel supports in radius
+/// (mirrors reach one support into it and must stay on their side of its centre), one
+/// support from each wall, and fitting the periodic length.
+pub(crate) fn circle_in_box(
+    field: &str,
+    radius: f64,
+    centre: [f64; 2],
+    (length, height, resolution): (f64, f64, usize),
+) -> Result<Circle, FieldError> {
+    let radius_field = format!("{field}.radius");
+    let radius = positive(&radius_field, radius)?;
+    let support = support_in_dr() * height / resolution as f64;
+    if radius < 2.0 * support {
+        return Err(field_err(
+            &radius_field,
+            format!(
+                "must be at least two kernel supports ({:.4}) at this resolution, got {radius}",
+                2.0 * support
+            ),
+        ));
+    }
+    let gap = (centre[1] - radius).min(height - centre[1] - radius);
+    if !(centre[0].is_finite() && centre[1].is_finite())
+        || gap < support
+        || centre[0] < 0.0
+        || centre[0] > length
+    {
+        return Err(field_err(
+            &format!("{field}.centre"),
+            format!("the circle must lie inside the box with at least one kernel support ({support:.4}) to each wall"),
+        ));
+    }
+    if 2.0 * radius + 2.0 * support > length {
+        return Err(field_err(
+            &radius_field,
+            "the circle does not fit in the periodic length",
+        ));
+    }
+    Ok(Circle {
+        centre: Vec2::new(centre[0], centre[1]),
+        radius,
+    })
+}
