@@ -1,4 +1,5 @@
-//! Rigid discs: `disc.csv` (per disc and output time: centre, velocity, spin, force, torque)
+//! Rigid discs: `disc.csv` (per disc and output time: centre, velocity, spin, the fluid's
+//! force and torque, the contact force)
 //! and the `discs` entry of `summary.json`: per disc its `rotation_ratio`, the mean over the
 //! second half of the run of Ω/(−γ̇/2), with γ̇ = (u_top − u_bottom)/H the walls' shear rate
 //! (a torque-free disc in unbounded simple shear turns with the fluid's angular velocity
@@ -18,11 +19,11 @@ use std::path::Path;
 pub struct DiscRow {
     pub t: f64,
     pub disc: usize,
-    /// x, y, V_x, V_y, Ω, F_x, F_y, T.
-    pub values: [f64; 8],
+    /// x, y, V_x, V_y, Ω, F_x, F_y, T, and the contact force C_x, C_y.
+    pub values: [f64; 10],
 }
 
-const HEADER: &str = "t,disc,x,y,vx,vy,spin,fx,fy,torque";
+const HEADER: &str = "t,disc,x,y,vx,vy,spin,fx,fy,torque,contact_x,contact_y";
 
 /// The summary of one disc.
 #[derive(Clone, Debug, Serialize)]
@@ -69,7 +70,7 @@ impl DiscProbe {
         (0..self.discs())
             .map(|k| {
                 let rows: Vec<&DiscRow> = self.rows.iter().filter(|r| r.disc == k).collect();
-                let last = rows.last().map_or([f64::NAN; 8], |r| r.values);
+                let last = rows.last().map_or([f64::NAN; 10], |r| r.values);
                 let late: Vec<f64> = rows
                     .iter()
                     .filter(|r| r.t >= 0.5 * t_end)
@@ -131,7 +132,8 @@ impl Probe for DiscProbe {
     fn record(&mut self, sim: &mut Simulation, _rows: &[SeriesRow]) {
         let t = sim.state.time;
         let bodies = sim.bodies();
-        for (k, (d, load)) in bodies.discs.iter().zip(&bodies.loads).enumerate() {
+        let loads = bodies.loads.iter().zip(&bodies.contact_forces);
+        for (k, (d, (load, contact))) in bodies.discs.iter().zip(loads).enumerate() {
             let f = load.force.total();
             let c = d.circle.centre;
             self.rows.push(DiscRow {
@@ -146,6 +148,8 @@ impl Probe for DiscProbe {
                     f.x,
                     f.y,
                     load.torque(),
+                    contact.x,
+                    contact.y,
                 ],
             });
         }
@@ -165,7 +169,7 @@ impl Probe for DiscProbe {
             .skip(1)
             .filter_map(|line| {
                 let v: Vec<f64> = line.split(',').filter_map(|x| x.parse().ok()).collect();
-                (v.len() == 10).then(|| DiscRow {
+                (v.len() == 12).then(|| DiscRow {
                     t: v[0],
                     disc: v[1] as usize,
                     values: std::array::from_fn(|k| v[k + 2]),
