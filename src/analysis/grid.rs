@@ -210,6 +210,9 @@ where
 }
 
 /// Particles binned in square cells of the kernel support, for queries at arbitrary points.
+/// Not the step's [`crate::engine::neighbours::NeighbourSearch`]: that one skips coincident
+/// points (they carry no gradient), and at a lattice start every particle sits exactly on a
+/// cell-centred node, where it carries the largest weight of the fit.
 struct Cells {
     size: f64,
     dims: [usize; 2],

@@ -98,24 +98,28 @@ impl Disc {
         self.acceleration = m.acceleration;
     }
 
+    /// The no-slip condition of its surface (its mirrors' velocities).
+    fn condition(&self, tensor: TensorMirror) -> RigidNoSlip {
+        RigidNoSlip {
+            tensor,
+            centre: self.circle.centre,
+            radius: self.circle.radius,
+            velocity: self.velocity,
+            spin: self.spin,
+        }
+    }
+
     /// The wall its mirrors are built from.
     pub fn wall(&self, tensor: TensorMirror) -> Wall {
         Wall {
             shape: Shape::Circle(self.circle),
-            condition: Arc::new(RigidNoSlip {
-                tensor,
-                centre: self.circle.centre,
-                radius: self.circle.radius,
-                velocity: self.velocity,
-                spin: self.spin,
-            }),
+            condition: Arc::new(self.condition(tensor)),
         }
     }
 
     /// u_w at a surface point.
     pub fn surface_velocity(&self, x: Vec2) -> Vec2 {
-        let r = x - self.circle.centre;
-        self.velocity + self.spin * Vec2::new(-r.y, r.x)
+        self.condition(TensorMirror::Even).surface_velocity(x)
     }
 
     /// Advances V, Ω and c over one step under `load`, a contact force and the body force

@@ -180,15 +180,22 @@ impl CylinderSpec {
 }
 
 impl Channel {
+    /// The box: periodic in x, walls at y = 0 and H.
+    fn domain(&self) -> Domain {
+        Domain {
+            min: Vec2::zeros(),
+            max: Vec2::new(self.bounds.length, self.bounds.height),
+            periodic: [true, false],
+        }
+    }
+
     /// Whether a lattice point holds a fluid particle: outside the cylinder by at least
     /// 0.1δr (a closer particle's mirror would nearly coincide with it).
     fn is_fluid(&self, p: &Vec2) -> bool {
-        let length = self.bounds.length;
+        let domain = self.domain();
+        // The image of p nearest the centre, across the periodic ends.
         let clear = |c: &Circle| {
-            // The image of p nearest the centre, across the periodic ends.
-            let dx = p.x - c.centre.x;
-            let dx = dx - length * (dx / length).round();
-            (dx.hypot(p.y - c.centre.y) - c.radius) >= 0.1 * self.spacing()
+            c.distance(&Shape::Circle(*c).nearest_image(p, Some(&domain))) >= 0.1 * self.spacing()
         };
         self.cylinder.iter().all(clear) && self.discs.iter().all(|d| clear(&d.circle))
     }
@@ -264,11 +271,7 @@ impl Scene for Channel {
         ];
         walls.extend(self.cylinder.map(|c| wall(Shape::Circle(c))));
         Setup {
-            domain: Domain {
-                min: Vec2::zeros(),
-                max: Vec2::new(self.bounds.length, self.bounds.height),
-                periodic: [true, false],
-            },
+            domain: self.domain(),
             walls,
             velocity: vec![Vec2::zeros(); positions.len()],
             positions,
