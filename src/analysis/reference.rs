@@ -68,17 +68,19 @@ impl Reference {
     ) -> Result<Self, String> {
         let u = velocity_scale;
         let solution = match f.model {
-            Model::Newtonian | Model::OldroydB | Model::Ucm => Solution::StartUp {
-                series: StartupPoiseuille::new(
-                    f.density * u * height / f.viscosity,
-                    f.relaxation_time * u / height,
-                    f.beta,
-                ),
-                modes: Modes::default(),
-                heights: Vec::new(),
-                time_scale: height / u,
-                stress_scale: f.viscosity * u / height,
-            },
+            Model::Newtonian | Model::OldroydB | Model::Ucm if f.law.is_constant() => {
+                Solution::StartUp {
+                    series: StartupPoiseuille::new(
+                        f.density * u * height / f.viscosity,
+                        f.relaxation_time * u / height,
+                        f.beta,
+                    ),
+                    modes: Modes::default(),
+                    heights: Vec::new(),
+                    time_scale: height / u,
+                    stress_scale: f.viscosity * u / height,
+                }
+            }
             _ => Solution::Steady(SteadyChannel::new(f, body_force, height)?),
         };
         Ok(Self::new(solution, height, u))
@@ -87,7 +89,9 @@ impl Reference {
     /// Start-up plane Couette flow between walls at y = 0 and `height` sliding at
     /// `wall_velocity` (x-components), from rest: Newtonian, Oldroyd-B and UCM only.
     pub fn couette(f: &Fluid, height: f64, wall_velocity: [f64; 2]) -> Result<Self, String> {
-        if !matches!(f.model, Model::Newtonian | Model::OldroydB | Model::Ucm) {
+        if !matches!(f.model, Model::Newtonian | Model::OldroydB | Model::Ucm)
+            || !f.law.is_constant()
+        {
             return Err("start-up Couette is analytic for Newtonian, Oldroyd-B and UCM".into());
         }
         let series = StartupCouette {
@@ -109,7 +113,7 @@ impl Reference {
     /// The decaying Taylor–Green vortex of initial amplitude `amplitude` in a box of side
     /// `length` (Newtonian fluids only).
     pub fn taylor_green(f: &Fluid, length: f64, amplitude: f64) -> Result<Self, String> {
-        if f.model != Model::Newtonian {
+        if f.model != Model::Newtonian || !f.law.is_constant() {
             return Err("the Taylor–Green decay is analytic for a Newtonian fluid only".into());
         }
         let k = 2.0 * PI / length;

@@ -319,6 +319,8 @@ mod tests {
             viscosity: 1.0,
             beta: 0.1,
             relaxation_time: 1.0,
+            surface_tension: 0.0,
+            law: crate::engine::rheology::ViscosityLaw::Constant,
         }
     }
 

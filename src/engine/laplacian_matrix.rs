@@ -16,7 +16,7 @@
 
 use crate::engine::boundary::{Field, Ghosts};
 use crate::engine::neighbours::{NeighbourList, RowWriter};
-use crate::engine::operators::KernelSums;
+use crate::engine::operators::{pair_viscosity, KernelSums};
 use rayon::prelude::*;
 use rheosph_solver::{SolveError, SolveReport, Solver, SolverOptions};
 use sprs::CsMat;
@@ -36,7 +36,9 @@ impl LaplacianMatrix {
     /// Assembles `d I + c L` with mirrors of `field` folded into their parents' columns; rows
     /// flagged in `identity_rows`
     /// (empty: none) are replaced by identity rows, the Dirichlet rows of free-surface
-    /// particles.
+    /// particles. A non-empty `factor` (fluid then ghosts) weights each pair by the harmonic
+    /// mean of its values, the variable viscosity of
+    /// [`KernelSums::variable_laplacian_vector`].
     #[allow(clippy::too_many_arguments)]
     pub fn assemble(
         &mut self,
@@ -47,6 +49,7 @@ impl LaplacianMatrix {
         d: f64,
         c: f64,
         identity_rows: &[bool],
+        factor: &[f64],
     ) {
         let n = list.rows();
         // Each row is written into a slot of the CSR arrays sized by its neighbour count plus
@@ -75,7 +78,8 @@ impl LaplacianMatrix {
                     vals[0] = 1.0;
                     1
                 } else {
-                    assemble_row(i, n, list, sums, ghosts, field, d, c, cols, vals)
+                    let coefficients = (d, c, factor);
+                    assemble_row(i, n, (list, sums, ghosts), field, coefficients, cols, vals)
                 };
             });
 
@@ -165,16 +169,12 @@ impl LaplacianMatrix {
 
 /// Writes row i of `d I + c L` into its slot (diagonal first, then one entry per neighbour
 /// column), sorts it by column, merges duplicates, and returns the number of entries kept.
-#[allow(clippy::too_many_arguments)]
 fn assemble_row(
     i: usize,
     n_fluid: usize,
-    list: &NeighbourList,
-    sums: &KernelSums,
-    ghosts: &Ghosts,
+    (list, sums, ghosts): (&NeighbourList, &KernelSums, &Ghosts),
     field: Field,
-    d: f64,
-    c: f64,
+    (d, c, factor): (f64, f64, &[f64]),
     cols: &mut [usize],
     vals: &mut [f64],
 ) -> usize {
@@ -182,7 +182,10 @@ fn assemble_row(
     let mut diagonal = d;
     for k in list.range(i) {
         let j = list.index[k] as usize;
-        let w = c * sums.laplacian_weight(list, k);
+        let mut w = c * sums.laplacian_weight(list, k);
+        if !factor.is_empty() {
+            w *= pair_viscosity(factor[i], factor[j]);
+        }
         diagonal += w;
         let (col, coefficient) = if j < n_fluid {
             (j, -w)
@@ -273,9 +276,20 @@ mod tests {
         let mut sums = KernelSums::default();
         sums.update(&list, &kernel, dr * dr);
         let field: Vec<f64> = (0..n).map(|k| (k as f64 * 0.37).sin()).collect();
-        for (kind, d, c) in [(Field::Pressure, 0.0, -1.0), (Field::Velocity, 1.0, -0.01)] {
+        // A variable viscosity factor, even across the walls (as ShearDependentViscosity
+        // extends it); empty: uniform.
+        let fluid_factor: Vec<f64> = (0..n)
+            .map(|k| 0.5 + (k as f64 * 0.11).cos().abs())
+            .collect();
+        let mut factor = Vec::new();
+        ghosts.extend_scalar(&fluid_factor, &mut factor);
+        for (kind, d, c, phi) in [
+            (Field::Pressure, 0.0, -1.0, &[][..]),
+            (Field::Velocity, 1.0, -0.01, &[][..]),
+            (Field::Velocity, 1.0, -0.01, &factor[..]),
+        ] {
             let mut m = LaplacianMatrix::default();
-            m.assemble(&list, &sums, &ghosts, kind, d, c, &[]);
+            m.assemble(&list, &sums, &ghosts, kind, d, c, &[], phi);
             let a = CsMat::new((n, n), m.indptr.clone(), m.indices.clone(), m.data.clone());
             let mut ax = vec![0.0; n];
             rheosph_solver::vector::spmv(&a, &field, &mut ax);
@@ -291,7 +305,11 @@ mod tests {
                 }
             }
             let mut lap = vec![Vec2::zeros(); n];
-            sums.laplacian_vector(&list, &ext, &mut lap);
+            if phi.is_empty() {
+                sums.laplacian_vector(&list, &ext, &mut lap);
+            } else {
+                sums.variable_laplacian_vector(&list, &ext, phi, &mut lap);
+            }
             for i in 0..n {
                 let expected = d * field[i] + c * lap[i].x;
                 assert!(

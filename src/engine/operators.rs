@@ -189,6 +189,28 @@ impl KernelSums {
         });
     }
 
+    /// ∇·(φ∇u) in the form of (21), for a viscosity that varies as φ (extended to the
+    /// ghosts): `Σ_j w_ij φ_ij (u_i − u_j)` with φ_ij the pair's harmonic mean
+    /// ([`pair_viscosity`]). Equals φ∇²u for a uniform φ. It drops the ∇φ·∇uᵀ part of
+    /// ∇·(2φD), which vanishes in unidirectional flows (a channel: ∂φ/∂y ∂v/∂x = 0).
+    pub fn variable_laplacian_vector(
+        &self,
+        list: &NeighbourList,
+        u: &[Vec2],
+        factor: &[f64],
+        out: &mut [Vec2],
+    ) {
+        out.par_iter_mut().enumerate().for_each(|(i, l)| {
+            let mut acc = Vec2::zeros();
+            for k in list.range(i) {
+                let j = list.index[k] as usize;
+                let w = self.laplacian_weight(list, k) * pair_viscosity(factor[i], factor[j]);
+                acc += w * (u[i] - u[j]);
+            }
+            *l = acc;
+        });
+    }
+
     /// The weight `2 (r_ij·∇Ŵ_ij)/|r_ij|² δV` of pair `k` in eq. (21) (negative in full support).
     #[inline]
     pub fn laplacian_weight(&self, list: &NeighbourList, k: usize) -> f64 {
@@ -214,6 +236,19 @@ impl KernelSums {
             }
             *d = acc * dv;
         });
+    }
+}
+
+/// The viscosity of a pair for a variable viscosity: the harmonic mean 2ab/(a + b) (Cleary
+/// 1998), whose flux across a jump is set by the smaller side, as the exact one is (a plug
+/// beside a yielded layer); 0 if both are 0.
+#[inline]
+pub fn pair_viscosity(a: f64, b: f64) -> f64 {
+    let sum = a + b;
+    if sum > 0.0 {
+        2.0 * a * b / sum
+    } else {
+        0.0
     }
 }
 

@@ -74,6 +74,7 @@ impl PressureSystem {
             0.0,
             -1.0 / density,
             surface,
+            &[],
         );
     }
 

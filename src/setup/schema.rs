@@ -66,6 +66,9 @@ pub struct FluidSpec {
     /// λ (viscoelastic models).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub relaxation_time: Option<f64>,
+    /// σ, surface tension (any model; default 0).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub surface_tension: Option<f64>,
     /// Every other key: a parameter of the model (checked against it in validation).
     #[serde(flatten)]
     pub parameters: BTreeMap<String, f64>,
@@ -80,11 +83,19 @@ struct FluidCommon {
     viscosity: f64,
     beta: Option<f64>,
     relaxation_time: Option<f64>,
+    surface_tension: Option<f64>,
 }
 
 impl FluidSpec {
     fn from_table(mut table: toml::Table) -> Result<Self, FieldError> {
-        const COMMON: [&str; 5] = ["model", "density", "viscosity", "beta", "relaxation_time"];
+        const COMMON: [&str; 6] = [
+            "model",
+            "density",
+            "viscosity",
+            "beta",
+            "relaxation_time",
+            "surface_tension",
+        ];
         let keys: Vec<String> = table
             .keys()
             .filter(|k| !COMMON.contains(&k.as_str()))
@@ -106,6 +117,7 @@ impl FluidSpec {
             viscosity: common.viscosity,
             beta: common.beta,
             relaxation_time: common.relaxation_time,
+            surface_tension: common.surface_tension,
             parameters,
         })
     }

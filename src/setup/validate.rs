@@ -3,7 +3,8 @@
 
 use crate::engine::frame::Frame;
 use crate::engine::projection::Projection;
-use crate::engine::rheology::{Fluid, Model, Solvent, MODELS};
+use crate::engine::rheology::models::Parameter;
+use crate::engine::rheology::{Fluid, LawEntry, Model, Solvent, ViscosityLaw, LAWS, MODELS};
 use crate::engine::scheme::{PpeSettings, Scheme};
 use crate::engine::step::{Scales, Setup};
 use crate::engine::viscosity::Viscosity;
@@ -75,6 +76,12 @@ use rheosph_solver::Preconditioner;
 pub fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
     let scene = raw.scene.validate()?;
     let fluid = fluid(&raw.fluid)?;
+    if fluid.surface_tension > 0.0 && !scene.has_free_surface() {
+        return Err(field_err(
+            "fluid.surface_tension",
+            "acts only on a free surface, and this scene has none (set 0 or omit it)",
+        ));
+    }
     let scheme = scheme(&raw.scheme, scene.as_ref())?;
     let run = run(&raw.run, scene.as_ref())?;
     Ok(Case {
@@ -106,8 +113,16 @@ pub fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
 fn fluid(f: &FluidSpec) -> Result<Fluid, FieldError> {
     let density = positive("fluid.density", f.density)?;
     let viscosity = positive("fluid.viscosity", f.viscosity)?;
+    if let Some(law) = LawEntry::named(&f.model) {
+        return generalised_newtonian(f, law, density, viscosity);
+    }
     let entry = Model::named(&f.model).ok_or_else(|| {
-        let names: Vec<String> = MODELS.iter().map(|m| format!("`{}`", m.name)).collect();
+        let names: Vec<String> = MODELS
+            .iter()
+            .map(|m| m.name)
+            .chain(LAWS.iter().map(|l| l.name))
+            .map(|name| format!("`{name}`"))
+            .collect();
         field_err(
             "fluid.model",
             format!(
@@ -117,25 +132,7 @@ fn fluid(f: &FluidSpec) -> Result<Fluid, FieldError> {
             ),
         )
     })?;
-    if let Some(key) = f
-        .parameters
-        .keys()
-        .find(|k| !entry.parameters.iter().any(|p| p.key == k.as_str()))
-    {
-        return Err(field_err(
-            &format!("fluid.{key}"),
-            format!("not a parameter of model `{}`", entry.name),
-        ));
-    }
-    let mut values = Vec::with_capacity(entry.parameters.len());
-    for p in entry.parameters {
-        let field = format!("fluid.{}", p.key);
-        let v = f
-            .parameters
-            .get(p.key)
-            .ok_or_else(|| field_err(&field, "required for this model"))?;
-        values.push((p.check)(*v).map_err(|m| field_err(&field, m))?);
-    }
+    let values = parameters(f, entry.name, entry.parameters)?;
     let model = (entry.build)(&values);
     let (beta, relaxation_time) = match entry.solvent {
         Solvent::All => {
@@ -186,6 +183,80 @@ fn fluid(f: &FluidSpec) -> Result<Fluid, FieldError> {
         viscosity,
         beta,
         relaxation_time,
+        surface_tension: surface_tension(f)?,
+        law: ViscosityLaw::Constant,
+    })
+}
+
+/// σ, 0 when omitted.
+fn surface_tension(f: &FluidSpec) -> Result<f64, FieldError> {
+    let sigma = f.surface_tension.unwrap_or(0.0);
+    if !(sigma.is_finite() && sigma >= 0.0) {
+        return Err(field_err(
+            "fluid.surface_tension",
+            format!("must be a non-negative number, got {sigma}"),
+        ));
+    }
+    Ok(sigma)
+}
+
+/// The values of a model's or a law's parameters, in their order, each checked; a key that is
+/// not one of them is refused.
+fn parameters(f: &FluidSpec, name: &str, expected: &[Parameter]) -> Result<Vec<f64>, FieldError> {
+    if let Some(key) = f
+        .parameters
+        .keys()
+        .find(|k| !expected.iter().any(|p| p.key == k.as_str()))
+    {
+        return Err(field_err(
+            &format!("fluid.{key}"),
+            format!("not a parameter of model `{name}`"),
+        ));
+    }
+    let mut values = Vec::with_capacity(expected.len());
+    for p in expected {
+        let field = format!("fluid.{}", p.key);
+        let v = f
+            .parameters
+            .get(p.key)
+            .ok_or_else(|| field_err(&field, "required for this model"))?;
+        values.push((p.check)(*v).map_err(|m| field_err(&field, m))?);
+    }
+    Ok(values)
+}
+
+/// A generalised Newtonian fluid: all solvent (β = 1, no relaxation time), η(γ̇) cut at
+/// η0 = `fluid.viscosity`.
+fn generalised_newtonian(
+    f: &FluidSpec,
+    law: &LawEntry,
+    density: f64,
+    viscosity: f64,
+) -> Result<Fluid, FieldError> {
+    if f.relaxation_time.is_some_and(|l| l != 0.0) {
+        return Err(field_err(
+            "fluid.relaxation_time",
+            format!("a {} fluid has no relaxation time (omit it)", law.name),
+        ));
+    }
+    if f.beta.is_some_and(|b| b != 1.0) {
+        return Err(field_err(
+            "fluid.beta",
+            format!(
+                "a {} fluid is all solvent: β must be 1 (or omitted)",
+                law.name
+            ),
+        ));
+    }
+    let values = parameters(f, law.name, law.parameters)?;
+    Ok(Fluid {
+        model: Model::Newtonian,
+        density,
+        viscosity,
+        beta: 1.0,
+        relaxation_time: 0.0,
+        surface_tension: surface_tension(f)?,
+        law: (law.build)(&values),
     })
 }
 

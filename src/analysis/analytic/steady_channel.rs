@@ -14,6 +14,11 @@
 //! solve (τ_p,xy is increasing in γ̇ for every model here, Giesekus up to α = ½), and
 //! u(y) = ∫₀^y γ̇ dy by 4-point Gauss–Legendre quadrature on a fine grid, interpolated with
 //! cubic Hermite polynomials that use γ̇ as the derivative. No tables from the literature.
+//!
+//! A generalised Newtonian fluid is the same problem with the solvent stress η(γ̇)γ̇ of its
+//! law and no polymer: the power law, Carreau–Yasuda, Cross and (regularised) Bingham and
+//! Herschel–Bulkley channels, exactly for the law as the solver uses it (its cut at η0 and
+//! Papanastasiou's regularisation included).
 
 use super::roots::{brent, solve_increasing};
 use crate::engine::math::Sym2;
@@ -177,16 +182,18 @@ impl SteadyChannel {
         }
         let target = tau.abs();
         let eta_s = self.fluid.solvent_viscosity();
+        let law = self.fluid.law;
         let excess = |g: f64| -> f64 {
             let polymer = steady_shear_stress(&self.fluid, g)
                 .map(|t| t.xy)
                 .unwrap_or(f64::NAN);
-            eta_s * g + polymer - target
+            law.shear_stress(eta_s, g) + polymer - target
         };
         // Upper bracket: τ/η0 is the Newtonian shear rate, exceeded by any shear-thinning
-        // model; with a solvent, τ/η_s bounds it. Without one, expand.
+        // model; with a constant solvent viscosity, τ/η_s bounds it. Without one, or with a
+        // generalised Newtonian law (η ≤ η0), expand.
         let start = target / self.fluid.viscosity;
-        let g = if eta_s > 0.0 {
+        let g = if eta_s > 0.0 && law.is_constant() {
             brent(excess, 0.0, (target / eta_s).max(start), 0.0)?
         } else {
             solve_increasing(excess, 0.0, start, 0.0).map_err(|e| {
@@ -247,6 +254,8 @@ mod tests {
             } else {
                 1.0
             },
+            surface_tension: 0.0,
+            law: crate::engine::rheology::ViscosityLaw::Constant,
         }
     }
 

@@ -155,7 +155,9 @@ pub fn final_errors(
 }
 
 /// `profile.csv`: every particle at the end of the run with the analytic values at its height
-/// (empty where there is no reference), for post-processing and profile comparisons.
+/// (empty where there is no reference), its pressure p and the viscosity η of its viscous term
+/// (η(γ̇) of a generalised Newtonian fluid, η_s otherwise), for post-processing and profile
+/// comparisons.
 pub fn profile_csv(
     sim: &Simulation,
     reference: Option<&mut Reference>,
@@ -168,14 +170,15 @@ pub fn profile_csv(
         r.velocity_at(&s.position, s.time, &mut exact_u);
     }
     let tau = sim.polymer_stress();
+    let eta = sim.viscosity();
     let mut out = String::from(
-        "x,y,u,v,u_exact,tau_xx,tau_xy,tau_yy,tau_xx_exact,tau_xy_exact,tau_yy_exact\n",
+        "x,y,u,v,u_exact,tau_xx,tau_xy,tau_yy,tau_xx_exact,tau_xy_exact,tau_yy_exact,p,eta\n",
     );
     let blank = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:.8e}"));
     for (i, p) in s.position.iter().enumerate() {
         let ex = |f: fn(&ExactStresses) -> &Vec<f64>| stresses.map(|e| e.interpolate(f(e), p.y));
         out.push_str(&format!(
-            "{:.8e},{:.8e},{:.8e},{:.8e},{},{:.8e},{:.8e},{:.8e},{},{},{}\n",
+            "{:.8e},{:.8e},{:.8e},{:.8e},{},{:.8e},{:.8e},{:.8e},{},{},{},{:.8e},{:.8e}\n",
             p.x,
             p.y,
             s.velocity[i].x,
@@ -187,6 +190,8 @@ pub fn profile_csv(
             blank(ex(|e| &e.profiles.xx)),
             blank(ex(|e| &e.profiles.xy)),
             blank(ex(|e| &e.profiles.yy)),
+            s.pressure[i],
+            eta[i],
         ));
     }
     out

@@ -225,6 +225,14 @@ impl Ghosts {
         );
     }
 
+    /// Fluid scalars followed by the ghosts' copies of their parents' values (an even field
+    /// such as a viscosity).
+    pub fn extend_scalar(&self, fluid: &[f64], out: &mut Vec<f64>) {
+        out.clear();
+        out.extend_from_slice(fluid);
+        out.extend(self.parent.iter().map(|&p| fluid[p as usize]));
+    }
+
     /// Fluid tensors followed by the ghosts' values by their walls' conditions.
     pub fn extend_tensor(&self, fluid: &[Sym2], out: &mut Vec<Sym2>) {
         out.clear();

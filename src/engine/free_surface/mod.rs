@@ -1,13 +1,16 @@
 //! Free surfaces (King & Lind §III C–D): the optional stage of a scene with free surfaces.
 //! Step 2 detects the surface and its normals ([`detection`], (36)–(39)); step 5 gives the PPE
-//! rows of surface particles their Dirichlet pressure ([`pressure`], (34)–(35)). The same
+//! rows of surface particles their Dirichlet pressure ([`pressure`], (34)–(35)), with the
+//! capillary jump σκ of a surface tension ([`tension`]). The same
 //! scenes use the free-surface shifting (40)–(44) and the positive stress divergence (20).
 
 pub mod detection;
 pub mod pressure;
+pub mod tension;
 
 pub use detection::{FreeSurface, NEAR_SURFACE_STRENGTH};
 pub use pressure::{SurfaceInputs, SurfacePressure, SurfacePressureRule};
+pub use tension::SurfaceTension;
 
 use crate::engine::kernel::QuinticSpline;
 use crate::engine::math::{Sym2, Vec2};
@@ -20,16 +23,25 @@ pub struct FreeSurfaceStage {
     /// FS and NS sets and normals of the last step.
     pub surface: FreeSurface,
     rule: Box<dyn SurfacePressureRule>,
+    /// The capillary jump σκ (a fluid with surface tension).
+    tension: Option<SurfaceTension>,
     dirichlet: Vec<f64>,
 }
 
 impl FreeSurfaceStage {
-    pub fn new(rule: SurfacePressure) -> Self {
+    /// The stage for a rule and, if σ > 0, a surface tension σ on particles of spacing δr.
+    pub fn new(rule: SurfacePressure, surface_tension: f64, spacing: f64) -> Self {
         Self {
             surface: FreeSurface::default(),
             rule: rule.rule(),
+            tension: (surface_tension > 0.0).then(|| SurfaceTension::new(surface_tension, spacing)),
             dirichlet: Vec::new(),
         }
+    }
+
+    /// The curvature κ of the FS particles at the last step (None without surface tension).
+    pub fn curvature(&self) -> Option<&[f64]> {
+        self.tension.as_ref().map(|t| t.curvature.as_slice())
     }
 
     /// Heap bytes held.
@@ -37,6 +49,7 @@ impl FreeSurfaceStage {
         self.surface.heap_bytes()
             + crate::engine::vec_bytes(&self.dirichlet)
             + self.rule.heap_bytes()
+            + self.tension.as_ref().map_or(0, SurfaceTension::heap_bytes)
     }
 
     /// Step 2: detection (36)–(37) and normals (38)–(39). Rows in `prescribed` (an inflow
@@ -56,7 +69,9 @@ impl FreeSurfaceStage {
     }
 
     /// Step 5: the Dirichlet pressure of every row (zero off the surface), from the
-    /// predictor's velocity u* (fluid values, then the ghosts') and A^{n+½}.
+    /// predictor's velocity u* (fluid values, then the ghosts') and A^{n+½}, plus the
+    /// capillary jump σκ where the rule's value is trusted (not an inflow row, not a sparse
+    /// splash: [`pressure::MIN_SURFACE_NEIGHBOURS`]).
     pub fn dirichlet_pressure(
         &mut self,
         (list, sums): (&NeighbourList, &KernelSums),
@@ -77,6 +92,13 @@ impl FreeSurfaceStage {
         self.dirichlet.clear();
         self.dirichlet.resize(list.rows(), 0.0);
         self.rule.pressure(&inputs, &mut self.dirichlet);
+        if let Some(tension) = self.tension.as_mut() {
+            let trusted = |i: usize| {
+                !prescribed.get(i).copied().unwrap_or(false)
+                    && list.range(i).len() >= pressure::MIN_SURFACE_NEIGHBOURS
+            };
+            tension.add_jump(list, &self.surface, trusted, &mut self.dirichlet);
+        }
         &mut self.dirichlet
     }
 

@@ -18,7 +18,7 @@ use serde::{Deserialize, Serialize};
 /// velocity gradient, and so its normal-stress pressure (35a), is trusted; sparser ones (a
 /// splash, a thread's tip) take p = 0. Measured: the Oldroyd-B jet at Wi = 5/3 broke down at
 /// t = 0.30 s after a surface particle with 7 neighbours carried p = 912 Pa from (35a).
-const MIN_SURFACE_NEIGHBOURS: usize = 12;
+pub(crate) const MIN_SURFACE_NEIGHBOURS: usize = 12;
 
 /// The rule named in a case file (`scheme.free_surface_pressure`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]

@@ -1,15 +1,18 @@
 //! Constitutive models as strain and relaxation functions (King & Lind Table I, eqs. (9)–(10))
 //! and the integration of the conformation tensor: log-conformation (eqs. (12)–(19),
-//! (29)–(32)) or direct first-order Euler on A (eq. (10)).
+//! (29)–(32)) or direct first-order Euler on A (eq. (10)). Beside them, the generalised
+//! Newtonian laws η(γ̇) ([`generalised_newtonian`]).
 
 pub mod conformation;
 pub mod direct;
+pub mod generalised_newtonian;
 pub mod log_conformation;
 pub mod models;
 
 use crate::engine::math::Sym2;
 pub use conformation::{ConformationScheme, ConformationStage};
 pub use direct::direct_step;
+pub use generalised_newtonian::{LawEntry, ViscosityLaw, LAWS};
 pub use log_conformation::{log_conformation_step, log_convective_term, relax};
 pub use models::{
     Constitutive, ExponentialPtt, FeneCr, FeneP, Giesekus, LinearPtt, Model, ModelEntry, OldroydB,
@@ -28,6 +31,13 @@ pub struct Fluid {
     pub beta: f64,
     /// Relaxation time λ (0 for a Newtonian fluid).
     pub relaxation_time: f64,
+    /// Surface tension σ (N/m in SI; 0: none), entering the free-surface pressure through
+    /// the normal-stress balance with a capillary jump (see
+    /// [`crate::engine::free_surface::tension`]).
+    pub surface_tension: f64,
+    /// The viscosity law of a generalised Newtonian fluid (`Constant` otherwise); η0 =
+    /// `viscosity` is its cut, the largest viscosity.
+    pub law: ViscosityLaw,
 }
 
 impl Fluid {
@@ -147,6 +157,8 @@ mod tests {
             viscosity: 2.0,
             beta: 0.25,
             relaxation_time: 0.5,
+            surface_tension: 0.0,
+            law: ViscosityLaw::Constant,
         };
         let tau = fluid.polymer_stress(&Sym2::new(3.0, 1.0, 1.0));
         // η_p/λ = 1.5/0.5 = 3.

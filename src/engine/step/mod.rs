@@ -41,7 +41,9 @@ use crate::engine::rheology::{ConformationStage, Fluid};
 use crate::engine::scheme::Scheme;
 use crate::engine::shifting::{ShiftInputs, ShiftRule, Shifting};
 use crate::engine::timing::{Stage, StageSeconds};
-use crate::engine::viscosity::{elastic_wave_speed, DtInputs, ViscousStage};
+use crate::engine::viscosity::{
+    elastic_wave_speed, DtInputs, ShearDependentViscosity, ViscousStage,
+};
 use rayon::prelude::*;
 
 /// Everything needed to start a simulation.
@@ -82,6 +84,8 @@ struct Stages {
     free_surface: Option<FreeSurfaceStage>,
     conformation: Option<ConformationStage>,
     viscous: ViscousStage,
+    /// φ = η(γ̇)/η0 of a generalised Newtonian fluid (None: uniform viscosity).
+    shear_viscosity: Option<ShearDependentViscosity>,
     /// ν of the viscous term: (β + α_V)η0/ρ (η0/ρ for a Newtonian fluid).
     nu: f64,
     velocity_star: Vec<Vec2>,
@@ -141,13 +145,19 @@ impl Simulation {
                 setup.free_surface,
                 scheme.surface_repulsion,
             )),
-            free_surface: setup
-                .free_surface
-                .then(|| FreeSurfaceStage::new(scheme.free_surface_pressure)),
+            free_surface: setup.free_surface.then(|| {
+                FreeSurfaceStage::new(
+                    scheme.free_surface_pressure,
+                    fluid.surface_tension,
+                    setup.spacing,
+                )
+            }),
             conformation: viscoelastic.then(|| {
                 ConformationStage::new(scheme.conformation, &fluid, scheme.evss_alpha, form)
             }),
             viscous: scheme.viscosity.stage(),
+            shear_viscosity: (!fluid.law.is_constant())
+                .then(|| ShearDependentViscosity::new(fluid.law, fluid.viscosity)),
             nu: scheme.viscosity_nu(&fluid),
             velocity_star: Vec::new(),
             bodies,
@@ -365,6 +375,9 @@ impl Simulation {
                 fs.detect(list, sums, kernel, buffer);
             }
             st.kinematics.update((list, sums, ghosts), &s.velocity);
+            if let Some(v) = st.shear_viscosity.as_mut() {
+                v.update(&st.kinematics.grad_u, ghosts);
+            }
             let inputs = ShiftInputs {
                 list,
                 sums,
@@ -405,6 +418,7 @@ impl Simulation {
         let (st, s) = (&mut self.stages, &self.state);
         let inv_rho = 1.0 / self.fluid.density;
         let body_force = s.body_force;
+        let factor = st.shear_viscosity.as_ref().map_or(&[][..], |v| v.factor());
         self.timers.time(Stage::Predictor, || {
             let hood = st.hood.parts();
             let terms = PredictorTerms {
@@ -412,7 +426,7 @@ impl Simulation {
                 u_ps: &s.shift_velocity,
                 viscous: st
                     .viscous
-                    .explicit_laplacian(hood.0, hood.1, &st.kinematics.velocity_ext)
+                    .explicit_laplacian(hood.0, hood.1, &st.kinematics.velocity_ext, factor)
                     .map(|laplacian| (laplacian, st.nu)),
                 stress: st.conformation.as_ref().map(|c| c.stress_divergence()),
                 body_force,
@@ -430,7 +444,7 @@ impl Simulation {
             .time(Stage::Viscous, || {
                 st.viscous.solve(
                     st.hood.parts(),
-                    nu_dt,
+                    (nu_dt, factor),
                     &s.velocity,
                     &mut st.velocity_star,
                     (buffer, prescribed),
@@ -513,6 +527,18 @@ impl Simulation {
         });
     }
 
+    /// The viscosity of every particle's viscous term: η(γ̇) of the last step for a
+    /// generalised Newtonian fluid, the solvent viscosity η_s otherwise.
+    pub fn viscosity(&self) -> Vec<f64> {
+        let eta_s = self.fluid.solvent_viscosity();
+        match self.stages.shear_viscosity.as_ref() {
+            Some(v) if v.fluid_factor().len() == self.particles() => {
+                v.fluid_factor().iter().map(|phi| phi * eta_s).collect()
+            }
+            _ => vec![eta_s; self.particles()],
+        }
+    }
+
     /// Polymer stress τ_p at n−1/2 for every particle (zero for Newtonian).
     pub fn polymer_stress(&self) -> Vec<Sym2> {
         if !self.fluid.model.is_viscoelastic() {
@@ -541,6 +567,7 @@ impl Simulation {
             + st.free_surface.as_ref().map_or(0, |f| f.heap_bytes())
             + st.conformation.as_ref().map_or(0, |c| c.heap_bytes())
             + st.viscous.heap_bytes()
+            + st.shear_viscosity.as_ref().map_or(0, |v| v.heap_bytes())
             + b(&st.velocity_star)
             + st.projection.heap_bytes()
             + st.pressure.heap_bytes()

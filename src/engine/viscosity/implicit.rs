@@ -52,6 +52,7 @@ impl ImplicitViscosity {
         nu_dt: f64,
         rhs: &mut [Vec2],
         prescribed: &[bool],
+        factor: &[f64],
     ) {
         if !ghosts.has_offsets() {
             return;
@@ -59,7 +60,11 @@ impl ImplicitViscosity {
         let n = rhs.len();
         ghosts.extend_offsets(n, &mut self.offsets);
         self.wall_term.resize(n, Vec2::zeros());
-        sums.laplacian_vector(list, &self.offsets, &mut self.wall_term);
+        if factor.is_empty() {
+            sums.laplacian_vector(list, &self.offsets, &mut self.wall_term);
+        } else {
+            sums.variable_laplacian_vector(list, &self.offsets, factor, &mut self.wall_term);
+        }
         for (i, (u, w)) in rhs.iter_mut().zip(&self.wall_term).enumerate() {
             if !prescribed.get(i).copied().unwrap_or(false) {
                 *u += nu_dt * w;
@@ -74,7 +79,8 @@ impl ImplicitViscosity {
         self.increment.clear();
     }
 
-    /// Solves for u* given the explicit part `rhs` (overwritten with u*): `nu_dt` = δt ν.
+    /// Solves for u* given the explicit part `rhs` (overwritten with u*): `nu_dt` = δt ν,
+    /// times `factor` (fluid then ghosts; empty: 1) for a variable viscosity.
     /// Rows flagged in `prescribed` (empty: none) keep their value (inflow particles).
     /// `tolerance` is the relative residual; returns the reports of the x and y solves.
     #[allow(clippy::too_many_arguments)]
@@ -83,15 +89,23 @@ impl ImplicitViscosity {
         list: &NeighbourList,
         sums: &KernelSums,
         ghosts: &Ghosts,
-        nu_dt: f64,
+        (nu_dt, factor): (f64, &[f64]),
         warm_start: &[Vec2],
         velocity: &mut [Vec2],
         prescribed: &[bool],
         (tolerance, preconditioner): (f64, Preconditioner),
     ) -> Result<[SolveReport; 2], SolveError> {
-        self.matrix
-            .assemble(list, sums, ghosts, Field::Velocity, 1.0, -nu_dt, prescribed);
-        self.add_wall_term((list, sums, ghosts), nu_dt, velocity, prescribed);
+        self.matrix.assemble(
+            list,
+            sums,
+            ghosts,
+            Field::Velocity,
+            1.0,
+            -nu_dt,
+            prescribed,
+            factor,
+        );
+        self.add_wall_term((list, sums, ghosts), nu_dt, velocity, prescribed, factor);
         let options = SolverOptions {
             relative_tolerance: tolerance,
             absolute_tolerance: 0.0,

@@ -8,7 +8,8 @@
 //!   velocity component, and δt ≤ f·h/max(max|u|, U), U the scene's velocity scale (which
 //!   bounds the first steps from rest).
 //!
-//! Both also keep the elastic limit of the explicitly coupled polymer stress,
+//! Both also keep the capillary limit of a surface tension
+//! ([`capillary_limit`]) and the elastic limit of the explicitly coupled polymer stress,
 //! [`elastic_limit`]: steps 3 and 4 advance A with ∇u^n and put ∇·τ_p^{n+½} into the predictor,
 //! a staggered explicit scheme for elastic shear waves whose speed is that of the *stretched*
 //! polymer, c² = (G + τ_max)/ρ with G = η_p/λ and τ_max the largest principal polymer stress
@@ -16,8 +17,10 @@
 //! ~70 at the wall of the Wi = 16 channel, where the old rule broke down.
 
 pub mod implicit;
+pub mod shear_dependent;
 
 use crate::engine::boundary::Ghosts;
+use crate::engine::free_surface::tension::capillary_limit;
 use crate::engine::math::Vec2;
 use crate::engine::neighbours::NeighbourList;
 use crate::engine::operators::KernelSums;
@@ -25,6 +28,7 @@ use crate::engine::rheology::Fluid;
 pub use implicit::ImplicitViscosity;
 use rheosph_solver::{SolveError, SolveReport};
 use serde::{Deserialize, Serialize};
+pub use shear_dependent::ShearDependentViscosity;
 
 /// How the viscous term of the predictor is integrated.
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
@@ -113,6 +117,7 @@ impl Viscosity {
             Viscosity::Implicit => advective_limit(d.h, d.max_speed.max(d.velocity_scale))
                 .min(elastic_limit(fluid, d.h, d.max_polymer_stress, nu)),
         }
+        .min(capillary_limit(fluid.density, fluid.surface_tension, d.h))
     }
 
     /// The stage that integrates the term.
@@ -151,18 +156,24 @@ impl ViscousStage {
         }
     }
 
-    /// The explicit term's ∇²u^n (eq. (21), from the extended velocity), or None when the
-    /// term is taken implicitly.
+    /// The explicit term's ∇²u^n (eq. (21), from the extended velocity), or ∇·(φ∇u^n) for
+    /// a variable viscosity φ = η/η0 (`factor`, fluid then ghosts; empty: uniform), or None
+    /// when the term is taken implicitly.
     pub fn explicit_laplacian(
         &mut self,
         list: &NeighbourList,
         sums: &KernelSums,
         velocity_ext: &[Vec2],
+        factor: &[f64],
     ) -> Option<&[Vec2]> {
         match self {
             ViscousStage::Explicit { laplacian } => {
                 laplacian.resize(list.rows(), Vec2::zeros());
-                sums.laplacian_vector(list, velocity_ext, laplacian);
+                if factor.is_empty() {
+                    sums.laplacian_vector(list, velocity_ext, laplacian);
+                } else {
+                    sums.variable_laplacian_vector(list, velocity_ext, factor, laplacian);
+                }
                 Some(laplacian)
             }
             ViscousStage::Implicit(_) => None,
@@ -171,11 +182,12 @@ impl ViscousStage {
 
     /// The implicit solve `(I − δt ν L) u* = rhs`, overwriting `velocity` (the rest of (24)
     /// on entry) with u*; `warm_start` is u^n; rows flagged in `prescribed` take the
-    /// velocity `value` (identity rows). Nothing for the explicit term.
+    /// velocity `value` (identity rows); `nu_dt` is δt ν with the variable viscosity's
+    /// factor (empty: uniform). Nothing for the explicit term.
     pub fn solve(
         &mut self,
         (list, sums, ghosts): (&NeighbourList, &KernelSums, &Ghosts),
-        nu_dt: f64,
+        nu_dt: (f64, &[f64]),
         warm_start: &[Vec2],
         velocity: &mut [Vec2],
         (prescribed, value): (&[bool], Vec2),

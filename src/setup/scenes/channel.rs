@@ -7,6 +7,7 @@ use super::{
     check_box, check_memory, check_periodic_length, circle_in_box, finite_force, support_in_dr,
     Scene, SceneBox,
 };
+use crate::analysis::analytic::SteadyChannel;
 use crate::analysis::diagnostics::centre_line_velocity;
 use crate::analysis::reference::Reference;
 use crate::engine::bodies::contact::Contact;
@@ -238,7 +239,16 @@ impl Scene for Channel {
             Some(_) => self.velocity,
             None => {
                 let h = self.bounds.height;
-                (f.density * self.body_force.x.abs() * h * h / (8.0 * f.viscosity)).max(walls)
+                let newtonian = f.density * self.body_force.x.abs() * h * h / (8.0 * f.viscosity);
+                // A generalised Newtonian fluid: its own steady centre-line velocity (the
+                // Newtonian estimate with η0, the cut, can be far too small).
+                let centre = if f.law.is_constant() {
+                    newtonian
+                } else {
+                    SteadyChannel::new(f, self.body_force.x, h)
+                        .map_or(newtonian, |c| c.centre_velocity().abs())
+                };
+                centre.max(walls)
             }
         }
     }

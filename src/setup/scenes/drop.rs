@@ -1,6 +1,11 @@
 //! A drop falling onto a no-slip plate (King & Lind §IV C): a disc of concentric rings of
 //! particles at (0, −U) above the plate y = 0, in an open box x ∈ [−length/2, length/2],
 //! y ∈ [0, height] that particles must stay in (leaving it is a breakdown).
+//!
+//! Without the plate (`scene.plate = false`) and gravity, the same scene is a free drop: with
+//! a surface tension it holds the Laplace pressure σ/R (`cases/static-drop.toml`), and
+//! stretched into an ellipse of the same area (`scene.drop.aspect_ratio` a/b) it oscillates
+//! in its mode 2 (`cases/oscillating-drop.toml`).
 
 use super::{
     centre_of_mass_velocity, open_domain, open_scene, plate, support_in_dr, DropShape, Scene,
@@ -29,6 +34,9 @@ pub struct DropSpec {
     pub body_force: Option<[f64; 2]>,
     /// The impact speed U.
     pub velocity: Option<f64>,
+    /// The no-slip plate y = 0 (default true).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub plate: Option<bool>,
     pub drop: Option<DropTable>,
 }
 
@@ -41,6 +49,10 @@ pub struct DropTable {
     /// Height of the drop's centre above the plate (default W).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub centre_height: Option<f64>,
+    /// a/b of an ellipse of the disc's area, semi-axes a = R√k along x and b = R/√k
+    /// (default 1: the disc).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub aspect_ratio: Option<f64>,
 }
 
 /// A validated drop scene.
@@ -49,6 +61,9 @@ pub struct Drop {
     pub bounds: SceneBox,
     pub body_force: Vec2,
     pub shape: DropShape,
+    pub plate: bool,
+    /// a/b of the initial ellipse (1: a disc).
+    pub aspect_ratio: f64,
 }
 
 impl DropSpec {
@@ -68,14 +83,17 @@ impl DropSpec {
         })?;
         let w = positive("scene.drop.diameter", d.diameter)?;
         let centre_height = positive("scene.drop.centre_height", d.centre_height.unwrap_or(w))?;
+        let aspect_ratio = positive("scene.drop.aspect_ratio", d.aspect_ratio.unwrap_or(1.0))?;
         let support = support_in_dr() * w / resolution as f64;
-        if centre_height - 0.5 * w < 0.5 * w / resolution as f64 {
+        // The ellipse's half extents a = R√k, b = R/√k.
+        let (half_x, half_y) = (0.5 * w * aspect_ratio.sqrt(), 0.5 * w / aspect_ratio.sqrt());
+        if centre_height - half_y < 0.5 * w / resolution as f64 {
             return Err(field_err(
                 "scene.drop.centre_height",
-                format!("the drop (radius {}) must start above the plate, got centre height {centre_height}", 0.5 * w),
+                format!("the drop (half height {half_y}) must start above the floor y = 0, got centre height {centre_height}"),
             ));
         }
-        if w + 2.0 * support > length || centre_height + 0.5 * w + support > height {
+        if 2.0 * (half_x + support) > length || centre_height + half_y + support > height {
             return Err(field_err(
                 "scene.length",
                 format!(
@@ -95,6 +113,8 @@ impl DropSpec {
                 diameter: w,
                 speed,
             },
+            plate: self.plate.unwrap_or(true),
+            aspect_ratio,
         })
     }
 }
@@ -118,8 +138,17 @@ impl Scene for Drop {
         self.shape.diameter
     }
 
-    fn velocity_scale(&self, _fluid: &Fluid) -> f64 {
-        self.shape.speed
+    /// The impact speed U; for a drop at rest, the larger of the capillary velocity
+    /// √(σ/ρR) (the scale of its oscillation, ωR) and the free-fall speed √(|g|W).
+    fn velocity_scale(&self, fluid: &Fluid) -> f64 {
+        let radius = 0.5 * self.shape.diameter;
+        let capillary = (fluid.surface_tension / (fluid.density * radius)).sqrt();
+        let fall = (self.body_force.norm() * self.shape.diameter).sqrt();
+        if self.shape.speed > 0.0 {
+            self.shape.speed
+        } else {
+            capillary.max(fall)
+        }
     }
 
     fn body_force(&self) -> Vec2 {
@@ -138,7 +167,11 @@ impl Scene for Drop {
         let positions = self.positions();
         Setup {
             domain: open_domain(self.bounds.length, self.bounds.height),
-            walls: vec![plate(scheme)],
+            walls: if self.plate {
+                vec![plate(scheme)]
+            } else {
+                Vec::new()
+            },
             velocity: vec![Vec2::new(0.0, -self.shape.speed); positions.len()],
             positions,
             spacing: self.spacing(),
@@ -173,7 +206,18 @@ impl Scene for Drop {
 }
 
 impl Drop {
+    /// The disc's rings, stretched into the ellipse by the area-preserving map
+    /// (x, y) → (x√k, y/√k) about the centre: every particle keeps its volume δr².
     fn positions(&self) -> Vec<Vec2> {
-        disc(self.shape.centre, 0.5 * self.shape.diameter, self.spacing())
+        let c = self.shape.centre;
+        let stretch = self.aspect_ratio.sqrt();
+        let mut points = disc(c, 0.5 * self.shape.diameter, self.spacing());
+        if self.aspect_ratio != 1.0 {
+            for p in points.iter_mut() {
+                let r = *p - c;
+                *p = c + Vec2::new(r.x * stretch, r.y / stretch);
+            }
+        }
+        points
     }
 }

@@ -7,11 +7,22 @@
 //! C_i = Σ_j V_j W_ij (37) of the interior particles (neither FS nor NS): a particle count is
 //! conserved by construction, so what can drift is how tightly the particles pack. Its drift
 //! is relative to the first step's value.
+//!
+//! Free drops (surface tension, no plate) are read by three more columns:
+//! * `mode2 = 4(⟨x'²⟩ − ⟨y'²⟩)/W²`, x' = x − x̄ over the particles: an ellipse of semi-axes
+//!   R(1 ± ε) has mode2 = ε (to first order), and a mode-2 oscillation, whose velocity is
+//!   linear in position, keeps the drop an ellipse, so mode2 is its amplitude. The summary's
+//!   `oscillation_period` is the mean spacing of its zero crossings, doubled, and
+//!   `decay_rate` the slope of ln|mode2| at its extrema (a least-squares line);
+//! * `interior_pressure`: the mean pressure of the particles within R/2 of the centroid
+//!   (Laplace: σ/R); the summary averages it over the last 20 % of the run;
+//! * `max_speed`: the largest particle speed (a static drop's spurious currents).
 
 use super::Probe;
 use crate::app::io::{self, SeriesRow};
 use crate::app::plot::FigureFormat;
 use crate::app::plot::{self, Chart, Curve, CurveStyle, PALETTE};
+use crate::engine::math::Vec2;
 use crate::engine::step::Simulation;
 use anyhow::Result;
 use std::path::Path;
@@ -26,6 +37,16 @@ pub struct DropSummary {
     pub final_height_star: f64,
     /// Largest |area/area(first step) − 1|.
     pub max_area_drift: f64,
+    /// Mean of `interior_pressure` over the rows of the last 20 % of the run.
+    pub interior_pressure: f64,
+    /// Largest particle speed over the rows of the last 20 % of the run.
+    pub late_max_speed: f64,
+    /// The mode-2 period, when mode2 crosses zero at least three times.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub oscillation_period: Option<f64>,
+    /// The decay rate γ of mode2 ∝ e^{−γt} from its extrema (at least two).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub decay_rate: Option<f64>,
 }
 
 /// One row of `drop.csv`.
@@ -39,10 +60,13 @@ pub struct DropRow {
     pub area_drift: f64,
     pub surface_particles: usize,
     pub max_trace_a: f64,
+    pub mode2: f64,
+    pub interior_pressure: f64,
+    pub max_speed: f64,
 }
 
-const HEADER: &str =
-    "t,t_star,width_star,height_star,area,area_drift,surface_particles,max_trace_a";
+const HEADER: &str = "t,t_star,width_star,height_star,area,area_drift,surface_particles,max_trace_a,mode2,interior_pressure,max_speed";
+const COLUMNS: usize = 11;
 
 /// The drop probe of a run: its diameter and impact speed, and the rows so far.
 pub struct DropProbe {
@@ -68,7 +92,7 @@ impl DropProbe {
         for line in text.lines().skip(1) {
             let v: Vec<f64> = line.split(',').filter_map(|s| s.parse().ok()).collect();
             // Times are written to 9 digits: a row at t itself may read back a hair later.
-            if v.len() == 8 && v[0] <= t * (1.0 + 1e-8) {
+            if v.len() == COLUMNS && v[0] <= t * (1.0 + 1e-8) {
                 self.rows.push(DropRow {
                     t: v[0],
                     t_star: v[1],
@@ -78,6 +102,9 @@ impl DropProbe {
                     area_drift: v[5],
                     surface_particles: v[6] as usize,
                     max_trace_a: v[7],
+                    mode2: v[8],
+                    interior_pressure: v[9],
+                    max_speed: v[10],
                 });
             }
         }
@@ -112,6 +139,8 @@ impl DropProbe {
             self.reference_area = Some(area);
         }
         let max_trace_a = s.conformation.iter().map(|a| a.trace()).fold(2.0, f64::max);
+        let (mode2, interior_pressure) = self.moments(sim);
+        let max_speed = s.velocity.iter().map(|u| u.norm()).fold(0.0, f64::max);
         self.rows.push(DropRow {
             t: s.time,
             t_star: s.time * self.speed / self.diameter,
@@ -121,7 +150,36 @@ impl DropProbe {
             area_drift: self.reference_area.map_or(f64::NAN, |a0| area / a0 - 1.0),
             surface_particles,
             max_trace_a,
+            mode2,
+            interior_pressure,
+            max_speed,
         });
+    }
+
+    /// mode2 and the interior pressure (module docs).
+    fn moments(&self, sim: &Simulation) -> (f64, f64) {
+        let s = &sim.state;
+        let n = s.position.len();
+        let sum = |f: &(dyn Fn(usize) -> f64 + Sync)| crate::engine::reduce::blocked_sum(n, f);
+        let centre = Vec2::new(
+            sum(&|i| s.position[i].x) / n as f64,
+            sum(&|i| s.position[i].y) / n as f64,
+        );
+        let spread = sum(&|i| {
+            let r = s.position[i] - centre;
+            r.x * r.x - r.y * r.y
+        }) / n as f64;
+        let mode2 = 4.0 * spread / (self.diameter * self.diameter);
+        let inner = 0.25 * self.diameter;
+        let (p, count) = (0..n)
+            .filter(|&i| (s.position[i] - centre).norm() < inner)
+            .fold((0.0, 0usize), |(p, c), i| (p + s.pressure[i], c + 1));
+        let interior = if count > 0 {
+            p / count as f64
+        } else {
+            f64::NAN
+        };
+        (mode2, interior)
     }
 
     /// `drop.csv`.
@@ -130,7 +188,7 @@ impl DropProbe {
         out.push('\n');
         for r in &self.rows {
             out.push_str(&format!(
-                "{:.8e},{:.6e},{:.6e},{:.6e},{:.6e},{:.4e},{},{:.6e}\n",
+                "{:.8e},{:.6e},{:.6e},{:.6e},{:.6e},{:.4e},{},{:.6e},{:.8e},{:.8e},{:.6e}\n",
                 r.t,
                 r.t_star,
                 r.width,
@@ -138,7 +196,10 @@ impl DropProbe {
                 r.area,
                 r.area_drift,
                 r.surface_particles,
-                r.max_trace_a
+                r.max_trace_a,
+                r.mode2,
+                r.interior_pressure,
+                r.max_speed
             ));
         }
         out
@@ -161,6 +222,7 @@ impl DropProbe {
             .iter()
             .max_by(|a, b| a.width.total_cmp(&b.width))
             .unwrap_or(last);
+        let late: Vec<&DropRow> = self.rows.iter().filter(|r| r.t >= 0.8 * last.t).collect();
         Some(DropSummary {
             t_star_reached: last.t_star,
             max_width_star: widest.width,
@@ -168,6 +230,11 @@ impl DropProbe {
             final_width_star: last.width,
             final_height_star: last.height,
             max_area_drift: self.max_area_drift(),
+            interior_pressure: late.iter().map(|r| r.interior_pressure).sum::<f64>()
+                / late.len() as f64,
+            late_max_speed: late.iter().map(|r| r.max_speed).fold(0.0, f64::max),
+            oscillation_period: oscillation_period(&self.rows),
+            decay_rate: decay_rate(&self.rows),
         })
     }
 
@@ -205,6 +272,62 @@ impl DropProbe {
             &[curve("", |r| r.area_drift, PALETTE[0])],
         )
     }
+}
+
+/// Smallest |mode2| peak that counts as an oscillation (0.1 % of W): below it the signal is
+/// a drop's round-off and lattice noise (a static drop: ~1e-9).
+const MIN_MODE2: f64 = 1e-3;
+
+/// Whether mode2 ever exceeds [`MIN_MODE2`].
+fn oscillates(rows: &[DropRow]) -> bool {
+    rows.iter().any(|r| r.mode2.abs() > MIN_MODE2)
+}
+
+/// The times at which mode2 changes sign (linear interpolation between rows).
+fn zero_crossings(rows: &[DropRow]) -> Vec<f64> {
+    rows.windows(2)
+        .filter(|w| w[0].mode2 * w[1].mode2 < 0.0)
+        .map(|w| {
+            let (a, b) = (w[0].mode2, w[1].mode2);
+            w[0].t + (w[1].t - w[0].t) * a / (a - b)
+        })
+        .collect()
+}
+
+/// Twice the mean spacing of mode2's zero crossings (None with fewer than three).
+pub fn oscillation_period(rows: &[DropRow]) -> Option<f64> {
+    let zeros = zero_crossings(rows);
+    (oscillates(rows) && zeros.len() >= 3)
+        .then(|| 2.0 * (zeros[zeros.len() - 1] - zeros[0]) / (zeros.len() - 1) as f64)
+}
+
+/// γ of mode2 ∝ e^{−γt}: the least-squares slope of ln|mode2| at its extremum between each
+/// pair of successive zero crossings (and before the first), None with fewer than two.
+pub fn decay_rate(rows: &[DropRow]) -> Option<f64> {
+    let zeros = zero_crossings(rows);
+    let mut bounds = vec![rows.first()?.t];
+    bounds.extend(&zeros);
+    let peaks: Vec<(f64, f64)> = bounds
+        .windows(2)
+        .filter_map(|w| {
+            rows.iter()
+                .filter(|r| r.t >= w[0] && r.t <= w[1])
+                .max_by(|a, b| a.mode2.abs().total_cmp(&b.mode2.abs()))
+                .map(|r| (r.t, r.mode2.abs().ln()))
+        })
+        .collect();
+    if peaks.len() < 2 || !oscillates(rows) {
+        return None;
+    }
+    let m = peaks.len() as f64;
+    let (st, sl) = peaks
+        .iter()
+        .fold((0.0, 0.0), |(a, b), p| (a + p.0, b + p.1));
+    let (mt, ml) = (st / m, sl / m);
+    let (num, den) = peaks.iter().fold((0.0, 0.0), |(n, d), p| {
+        (n + (p.0 - mt) * (p.1 - ml), d + (p.0 - mt).powi(2))
+    });
+    (den > 0.0).then(|| -num / den)
 }
 
 impl Probe for DropProbe {

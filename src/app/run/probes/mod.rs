@@ -68,7 +68,8 @@ impl Probes {
             probes.push(Box::new(cylinder::CylinderProbe::new(case, c)));
         }
         if let Some(d) = scene.drop_shape() {
-            probes.push(Box::new(drop::DropProbe::new(d.diameter, d.speed)));
+            let speed = scene.velocity_scale(&case.fluid);
+            probes.push(Box::new(drop::DropProbe::new(d.diameter, speed)));
         }
         if let Some(j) = scene.jet_shape() {
             probes.push(Box::new(jet::JetProbe::new(j.width)));

@@ -1,0 +1,236 @@
+//! Surface tension as a capillary jump in the free-surface pressure. With a surface tension σ
+//! the stress balance (34) on a free surface becomes `(τ − pI)·n = −σκ n` (Young–Laplace;
+//! Brackbill, Kothe & Zemach 1992 for the continuum form), κ = ∇·n the curvature of the
+//! surface with n its outward normal (κ = 1/R on a drop of radius R). Its normal component
+//! adds σκ to the Dirichlet pressure of (35a), whichever rule gives the rest:
+//! `p = 2η_s n·D·n + n·τ_p·n + σκ`.
+//!
+//! The curvature of an FS particle i is that of the surface through the FS particles around
+//! it ([`fitted_curvature`]): a kernel-weighted least-squares parabola in i's frame (t, n),
+//! with n the normal of (38)–(39). The first version differentiated the normal field (39)
+//! instead, and is blind to the odd–even mode of the surface: in a zigzag of FS particles
+//! every smoothed normal is untilted, so no capillary pressure resists it. Measured on the
+//! oscillating drop (R/δr = 20): the zigzag grew with the shifting's tangential moves until a
+//! dented FS particle was taken for an interior one (FS count 123 → 121 at t = 2.16), and its
+//! PPE row, now without a Dirichlet value, gave it p = 1.45σ/R and the run broke down at
+//! t = 2.39. A parabola through the positions sees a bulged particle as a convex cap, raises
+//! its pressure and pushes it back. κR = 1 + 0.012, 0.0028, 0.0007 on drops of R/δr = 10, 20, 40 (order 2);
+//! * the fit gives the curvature of the curve through the particle centres, which lie half a
+//!   spacing inside the surface (each particle stands for a δr × δr patch); the surface's is
+//!   that of the parallel curve, `κ/(1 + κ δr/2)` — without it κ is 1/(R − δr/2) on a drop,
+//!   5 % high at R/δr = 10. Where |κ| δr/2 > 1/2 the surface is not resolved and the
+//!   correction is not applied.
+//!
+//! The capillary step limit is [`capillary_limit`].
+
+use crate::engine::free_surface::FreeSurface;
+use crate::engine::kernel::QuinticSpline;
+use crate::engine::math::Vec2;
+use crate::engine::neighbours::NeighbourList;
+use nalgebra::{Matrix3, Vector3};
+use rayon::prelude::*;
+
+/// The capillary limit on δt before the factor 0.2 of (28): C·√(ρh³/(2πσ)), with C = 0.25
+/// (Brackbill, Kothe & Zemach 1992; Morris 2000 for SPH): the explicit capillary wave of
+/// wavelength ~h must be resolved. Infinite without surface tension.
+pub fn capillary_limit(density: f64, surface_tension: f64, h: f64) -> f64 {
+    if surface_tension <= 0.0 {
+        return f64::INFINITY;
+    }
+    const COURANT: f64 = 0.25;
+    const DT_FACTOR_OF_28: f64 = 0.2;
+    COURANT / DT_FACTOR_OF_28
+        * (density * h.powi(3) / (2.0 * std::f64::consts::PI * surface_tension)).sqrt()
+}
+
+/// The capillary term of the free-surface pressure, with its curvature buffer.
+#[derive(Clone, Debug)]
+pub struct SurfaceTension {
+    /// σ.
+    pub coefficient: f64,
+    kernel: QuinticSpline,
+    /// δr/2: how far the surface lies beyond the centres of its particles.
+    offset: f64,
+    /// κ of the last evaluation (FS particles; 0 elsewhere).
+    pub curvature: Vec<f64>,
+}
+
+impl SurfaceTension {
+    pub fn new(coefficient: f64, spacing: f64) -> Self {
+        Self {
+            coefficient,
+            kernel: QuinticSpline::for_spacing(spacing),
+            offset: 0.5 * spacing,
+            curvature: Vec::new(),
+        }
+    }
+
+    /// Heap bytes held.
+    pub fn heap_bytes(&self) -> usize {
+        crate::engine::vec_bytes(&self.curvature)
+    }
+
+    /// Adds σκ_i to `pressure` on the rows `apply` selects (FS particles whose Dirichlet value
+    /// is trusted).
+    pub fn add_jump(
+        &mut self,
+        list: &NeighbourList,
+        surface: &FreeSurface,
+        apply: impl Fn(usize) -> bool + Sync,
+        pressure: &mut [f64],
+    ) {
+        self.update_curvature(list, surface);
+        let (sigma, kappa) = (self.coefficient, &self.curvature);
+        pressure
+            .par_iter_mut()
+            .enumerate()
+            .filter(|(i, _)| surface.on_surface[*i] && apply(*i))
+            .for_each(|(i, p)| *p += sigma * kappa[i]);
+    }
+
+    /// κ of every FS particle (module docs).
+    pub fn update_curvature(&mut self, list: &NeighbourList, surface: &FreeSurface) {
+        let n = list.rows();
+        self.curvature.resize(n, 0.0);
+        let (kernel, offset) = (&self.kernel, self.offset);
+        self.curvature
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(i, kappa)| {
+                *kappa = if surface.on_surface[i] {
+                    fitted_curvature(i, list, surface, kernel)
+                        .map_or(0.0, |k| at_surface(k, offset))
+                } else {
+                    0.0
+                };
+            });
+    }
+}
+
+/// The curvature of the parallel curve `offset` further out: κ/(1 + κ offset), where the
+/// surface is resolved (|κ| offset ≤ 1/2).
+fn at_surface(kappa: f64, offset: f64) -> f64 {
+    if kappa.abs() * offset <= 0.5 {
+        kappa / (1.0 + kappa * offset)
+    } else {
+        kappa
+    }
+}
+
+/// The curvature at FS particle i of the parabola fitted, by kernel-weighted least squares,
+/// to the positions of the FS particles around it (i included) in i's frame (t, n):
+/// `s_n ≈ c0 + c1 s_t + c2 s_t²`, κ = −2c2/(1 + c1²)^{3/2} (positive where the surface curves
+/// away from its outward normal, as on a drop). Only FS neighbours facing the same way
+/// (n_j·n_i > 1/2) count, so the far side of a thin thread does not. None with fewer than three
+/// such particles or a degenerate fit.
+fn fitted_curvature(
+    i: usize,
+    list: &NeighbourList,
+    surface: &FreeSurface,
+    kernel: &QuinticSpline,
+) -> Option<f64> {
+    let n = list.rows();
+    let normal = &surface.normal;
+    let ni = normal[i];
+    let t = Vec2::new(-ni.y, ni.x);
+    let h = kernel.h();
+    // i itself: s = 0, weight W(0).
+    let w0 = kernel.value(0.0);
+    let (mut moment, mut rhs) = (Matrix3::zeros(), Vector3::zeros());
+    moment[(0, 0)] = w0;
+    let mut count = 1;
+    for k in list.range(i) {
+        let j = list.index[k] as usize;
+        if j >= n || !surface.on_surface[j] || normal[j].dot(&ni) <= 0.5 {
+            continue;
+        }
+        // r_j − r_i (rij is r_i − r_j), in units of h for conditioning.
+        let r = -list.rij[k] / h;
+        let (st, sn) = (r.dot(&t), r.dot(&ni));
+        let basis = Vector3::new(1.0, st, st * st);
+        let w = kernel.value(list.rij[k].norm());
+        moment += w * basis * basis.transpose();
+        rhs += w * sn * basis;
+        count += 1;
+    }
+    if count < 3 {
+        return None;
+    }
+    let chol = moment.cholesky()?;
+    let pivots = chol.l_dirty().diagonal();
+    if pivots.min() <= 1e-4 * pivots.max() {
+        return None;
+    }
+    let c = chol.solve(&rhs);
+    Some(-2.0 * c[2] / (1.0 + c[1] * c[1]).powf(1.5) / h)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::engine::neighbours::{Domain, NeighbourSearch};
+    use crate::engine::operators::KernelSums;
+
+    /// The FS particles of a drop built as concentric rings have κ = 1/R within 2 % at
+    /// R/δr = 10, 20, 40, and the mean error falls at second order (the parabola's error on a
+    /// circle).
+    #[test]
+    fn curvature_of_a_disc_is_one_over_its_radius() {
+        let mut errors = Vec::new();
+        for per_radius in [10usize, 20, 40] {
+            let radius = 1.0;
+            let dr = radius / per_radius as f64;
+            let centre = Vec2::new(2.0, 2.0);
+            let points = crate::engine::lattice::disc(centre, radius, dr);
+            let domain = Domain {
+                min: Vec2::zeros(),
+                max: Vec2::new(4.0, 4.0),
+                periodic: [false, false],
+            };
+            let kernel = QuinticSpline::for_spacing(dr);
+            let mut list = NeighbourList::default();
+            NeighbourSearch::new().build(
+                &domain,
+                &points,
+                points.len(),
+                kernel.support(),
+                &mut list,
+            );
+            let mut sums = KernelSums::default();
+            sums.update(&list, &kernel, dr * dr);
+            let mut fs = FreeSurface::default();
+            fs.detect(&list, &sums, &kernel);
+            let mut tension = SurfaceTension::new(1.0, dr);
+            tension.update_curvature(&list, &fs);
+            let fs_rows: Vec<usize> = (0..points.len()).filter(|&i| fs.on_surface[i]).collect();
+            let error = |i: &usize| tension.curvature[*i] * radius - 1.0;
+            let worst = fs_rows.iter().map(|i| error(i).abs()).fold(0.0, f64::max);
+            let mean = fs_rows.iter().map(error).sum::<f64>() / fs_rows.len() as f64;
+            errors.push((worst, mean));
+        }
+        // Measured: +1.17 %, +0.28 %, +0.07 % on every FS particle (order 2.0).
+        assert!(errors.iter().all(|&(w, _)| w < 0.02), "{errors:?}");
+        let order = (errors[0].1 / errors[2].1).abs().log2() / 2.0;
+        assert!(
+            order > 1.5,
+            "mean curvature error order {order}: {errors:?}"
+        );
+    }
+
+    /// The offset correction: a circle of radius ρ through the centres has κ = 1/ρ, its
+    /// parallel curve at ρ + d has 1/(ρ + d); unresolved curvature is left as it is.
+    #[test]
+    fn parallel_curve_curvature() {
+        assert!((at_surface(1.0 / 9.5, 0.5) - 0.1).abs() < 1e-15);
+        assert!((at_surface(-1.0 / 10.5, 0.5) + 0.1).abs() < 1e-15);
+        assert_eq!(at_surface(3.0, 0.5), 3.0);
+    }
+
+    #[test]
+    fn capillary_limit_scales_as_the_capillary_wave() {
+        let a = capillary_limit(1000.0, 0.07, 1e-3);
+        let b = capillary_limit(1000.0, 0.28, 1e-3);
+        assert!((a / b - 2.0).abs() < 1e-12);
+        assert!(capillary_limit(1000.0, 0.0, 1e-3).is_infinite());
+    }
+}
