@@ -1,6 +1,7 @@
 //! Numbers derived from a case, computed in one place, printed at start-up and stored in
 //! every summary.
 
+use crate::engine::free_surface::tension::capillary_limit;
 use crate::engine::kernel::H_OVER_DR;
 use crate::engine::viscosity::{advective_limit, elastic_limit, viscous_limit, DtInputs};
 use crate::setup::scenes::BYTES_PER_PARTICLE;
@@ -27,6 +28,8 @@ pub struct Derived {
     pub dt_viscous: f64,
     pub dt_advective_at_u: f64,
     pub dt_elastic: f64,
+    /// The capillary limit 0.25√(ρh³/(2πσ)) (infinite without surface tension).
+    pub dt_capillary: f64,
     /// end_time over the δt limit of the scheme at U.
     pub estimated_steps: f64,
     /// Particles × the measured heap per particle (`rheosph bench`).
@@ -65,6 +68,7 @@ impl Case {
             dt_viscous: factor * viscous_limit(f, h),
             dt_advective_at_u: factor * advective_limit(h, u),
             dt_elastic: factor * elastic_limit(f, h, 0.0, nu),
+            dt_capillary: factor * capillary_limit(f.density, f.surface_tension, h),
             estimated_steps: self.end_time / (factor * limit),
             estimated_memory_bytes: c.particles() as f64 * BYTES_PER_PARTICLE,
         }

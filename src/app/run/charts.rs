@@ -57,7 +57,7 @@ pub fn draw(
         &dir.join("centre_velocity.png"),
         format,
         &Chart {
-            title: format!("{title} ({})", sim.fluid.model.name()),
+            title: format!("{title} ({})", sim.fluid.model_name()),
             x_label: "t".into(),
             y_label: axis.into(),
             ..Default::default()

@@ -140,7 +140,7 @@ pub fn report_start(case: &Case, d: &Derived) {
     eprintln!(
         "  scene {}, model {}  Re = {:.4}  Wi = {:.4}  El = {:.4}  beta = {}  alpha_V = {}",
         case.scene.kind(),
-        f.model.name(),
+        f.model_name(),
         d.reynolds,
         d.weissenberg,
         d.elasticity,
@@ -148,8 +148,8 @@ pub fn report_start(case: &Case, d: &Derived) {
         case.scheme.evss_alpha
     );
     eprintln!(
-        "  {} particles (~{:.0} MB), dr = {:.4e}, h = {:.4e}; U = {:.4e}; dt limits: viscous {:.3e}, advective {:.3e}, elastic {:.3e}; ~{:.0} steps",
-        d.particles, d.estimated_memory_bytes / 1e6, d.particle_spacing, d.smoothing_length, d.velocity_scale, d.dt_viscous, d.dt_advective_at_u, d.dt_elastic, d.estimated_steps
+        "  {} particles (~{:.0} MB), dr = {:.4e}, h = {:.4e}; U = {:.4e}; dt limits: viscous {:.3e}, advective {:.3e}, elastic {:.3e}, capillary {:.3e}; ~{:.0} steps",
+        d.particles, d.estimated_memory_bytes / 1e6, d.particle_spacing, d.smoothing_length, d.velocity_scale, d.dt_viscous, d.dt_advective_at_u, d.dt_elastic, d.dt_capillary, d.estimated_steps
     );
     eprintln!(
         "  frame {:?}, conformation {:?}, shifting {}, {} threads",

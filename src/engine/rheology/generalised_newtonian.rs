@@ -55,6 +55,18 @@ impl ViscosityLaw {
         matches!(self, ViscosityLaw::Constant)
     }
 
+    /// The name in case files (None for `Constant`).
+    pub fn name(&self) -> Option<&'static str> {
+        Some(match self {
+            ViscosityLaw::Constant => return None,
+            ViscosityLaw::PowerLaw { .. } => "power-law",
+            ViscosityLaw::CarreauYasuda { .. } => "carreau-yasuda",
+            ViscosityLaw::Cross { .. } => "cross",
+            ViscosityLaw::HerschelBulkley { power_index, .. } if *power_index == 1.0 => "bingham",
+            ViscosityLaw::HerschelBulkley { .. } => "herschel-bulkley",
+        })
+    }
+
     /// η(γ̇) for the cut η0 (γ̇ ≥ 0).
     pub fn viscosity(&self, eta0: f64, shear_rate: f64) -> f64 {
         let g = shear_rate.abs();

@@ -41,6 +41,11 @@ pub struct Fluid {
 }
 
 impl Fluid {
+    /// The name in case files: the law's for a generalised Newtonian fluid, else the model's.
+    pub fn model_name(&self) -> &'static str {
+        self.law.name().unwrap_or_else(|| self.model.name())
+    }
+
     pub fn solvent_viscosity(&self) -> f64 {
         self.beta * self.viscosity
     }
