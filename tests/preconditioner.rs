@@ -20,7 +20,7 @@ fn run(preconditioner: &str, steps: usize) -> (Vec<rheosph::engine::math::Vec2>,
             .step(f64::INFINITY)
             .expect("step succeeds")
             .ppe
-            .iterations;
+            .map_or(0, |r| r.iterations);
     }
     (sim.state.velocity.clone(), iterations as f64 / steps as f64)
 }

@@ -129,7 +129,7 @@ fn timed_steps(resolution: usize, steps: usize, overrides: &[&str]) -> Result<Ti
     let mut iterations = 0usize;
     let start = Instant::now();
     for _ in 0..steps {
-        iterations += step(&mut sim)?.ppe.iterations;
+        iterations += step(&mut sim)?.ppe.map_or(0, |r| r.iterations);
     }
     let seconds = start.elapsed().as_secs_f64();
     Ok(Timed {

@@ -29,6 +29,7 @@ pub mod state;
 pub mod step;
 pub mod timing;
 pub mod viscosity;
+pub mod weakly_compressible;
 
 /// Heap bytes reserved by a vector.
 pub fn vec_bytes<T>(v: &Vec<T>) -> usize {

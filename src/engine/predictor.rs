@@ -26,6 +26,9 @@ pub struct PredictorTerms<'a> {
     pub body_force: Vec2,
     /// ∇p^n (incremental projection).
     pub old_pressure_gradient: Option<&'a [Vec2]>,
+    /// The weakly compressible scheme's pressure, polymer-stress, artificial viscosity and
+    /// stress accelerations (see [`crate::engine::weakly_compressible`]).
+    pub weak: Option<&'a [Vec2]>,
     /// 1/ρ.
     pub inv_rho: f64,
 }
@@ -39,6 +42,7 @@ pub fn predict(terms: &PredictorTerms, velocity: &[Vec2], dt: f64, out: &mut Vec
         stress,
         body_force,
         old_pressure_gradient,
+        weak,
         inv_rho,
     } = *terms;
     out.resize(velocity.len(), Vec2::zeros());
@@ -56,6 +60,9 @@ pub fn predict(terms: &PredictorTerms, velocity: &[Vec2], dt: f64, out: &mut Vec
             a += body_force;
             if let Some(grad_p) = old_pressure_gradient {
                 a -= inv_rho * grad_p[i];
+            }
+            if let Some(weak) = weak {
+                a += weak[i];
             }
             *us = u + dt * a;
         });

@@ -9,11 +9,16 @@ use crate::engine::kinematics::ConstitutiveGradient;
 use crate::engine::projection::Projection;
 use crate::engine::rheology::ConformationScheme;
 use crate::engine::viscosity::Viscosity;
+use crate::engine::weakly_compressible::WeaklyCompressible;
 use serde::{Deserialize, Serialize};
 
 /// Numerical scheme settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Scheme {
+    /// The projection (ISPH, the paper's) or the weakly compressible scheme.
+    pub method: Method,
+    /// A fixed time step instead of the stability rules (None: the rules).
+    pub time_step: Option<f64>,
     pub frame: Frame,
     pub conformation: ConformationScheme,
     /// The velocity gradient the constitutive update sees.
@@ -41,12 +46,25 @@ impl Scheme {
     /// ν of the viscous term of the predictor: (β + α_V)η0/ρ (η0/ρ for a Newtonian fluid),
     /// the ν the implicit solve uses.
     pub fn viscosity_nu(&self, fluid: &crate::engine::rheology::Fluid) -> f64 {
-        if fluid.model.is_viscoelastic() {
+        if matches!(self.method, Method::WeaklyCompressible(_)) {
+            // The polymer stress enters whole in the symmetric form, without EVSS.
+            fluid.solvent_viscosity() / fluid.density
+        } else if fluid.model.is_viscoelastic() {
             (fluid.beta + self.evss_alpha) * fluid.viscosity / fluid.density
         } else {
             fluid.viscosity / fluid.density
         }
     }
+}
+
+/// The time integrator: what replaces Steps 5–6 (the PPE and the projection).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Method {
+    /// King & Lind's projection: the PPE (25) and the projection (26).
+    Projection,
+    /// Weakly compressible SPH: pressure from an equation of state and the continuity
+    /// equation (see [`crate::engine::weakly_compressible`]).
+    WeaklyCompressible(WeaklyCompressible),
 }
 
 /// How the PPE (25) is solved.

@@ -39,10 +39,13 @@ pub struct Breakdown {
 #[derive(Clone, Copy, Debug)]
 pub struct StepReport {
     pub dt: f64,
-    pub ppe: SolveReport,
+    /// The PPE solve (None: the weakly compressible scheme has none).
+    pub ppe: Option<SolveReport>,
     /// δt c/h with c the shear-wave speed of the stretched polymer (0 without polymer): the
     /// number the elastic limit bounds (see `engine::viscosity::elastic_limit`).
     pub elastic_courant: f64,
     /// BiCGStab iterations of the implicit viscous solve, both components (0 if explicit).
     pub viscous_iterations: usize,
+    /// The largest |ρ/ρ0 − 1| after the step (0 for the projection, whose particles keep ρ0).
+    pub density_deviation: f64,
 }

@@ -3,7 +3,9 @@
 
 use crate::engine::free_surface::tension::capillary_limit;
 use crate::engine::kernel::H_OVER_DR;
+use crate::engine::scheme::Method;
 use crate::engine::viscosity::{advective_limit, elastic_limit, viscous_limit, DtInputs};
+use crate::engine::weakly_compressible::ACOUSTIC_COURANT;
 use crate::setup::scenes::BYTES_PER_PARTICLE;
 use crate::setup::validate::Case;
 use serde::Serialize;
@@ -30,6 +32,10 @@ pub struct Derived {
     pub dt_elastic: f64,
     /// The capillary limit 0.25√(ρh³/(2πσ)) (infinite without surface tension).
     pub dt_capillary: f64,
+    /// Weakly compressible scheme: the speed of sound c and the acoustic limit
+    /// C_a h/(c + U) (0 and infinite for the projection).
+    pub sound_speed: f64,
+    pub dt_acoustic: f64,
     /// end_time over the δt limit of the scheme at U.
     pub estimated_steps: f64,
     /// Particles × the measured heap per particle (`rheosph bench`).
@@ -55,7 +61,20 @@ impl Case {
             velocity_scale: u,
             max_polymer_stress: 0.0,
         };
-        let limit = self.scheme.viscosity.dt_limit(f, nu, &inputs);
+        let (sound_speed, dt_acoustic) = match self.scheme.method {
+            Method::WeaklyCompressible(w) => {
+                (w.sound_speed, ACOUSTIC_COURANT * h / (w.sound_speed + u))
+            }
+            Method::Projection => (0.0, f64::INFINITY),
+        };
+        let limit = match self.scheme.time_step {
+            Some(dt) => dt / factor,
+            None => self
+                .scheme
+                .viscosity
+                .dt_limit(f, nu, &inputs)
+                .min(dt_acoustic / factor),
+        };
         Derived {
             particle_spacing: dr,
             smoothing_length: h,
@@ -69,6 +88,8 @@ impl Case {
             dt_advective_at_u: factor * advective_limit(h, u),
             dt_elastic: factor * elastic_limit(f, h, 0.0, nu),
             dt_capillary: factor * capillary_limit(f.density, f.surface_tension, h),
+            sound_speed,
+            dt_acoustic,
             estimated_steps: self.end_time / (factor * limit),
             estimated_memory_bytes: c.particles() as f64 * BYTES_PER_PARTICLE,
         }

@@ -159,15 +159,45 @@ pub enum GradientChoice {
     Solenoidal,
 }
 
+/// The time integrator (`scheme.method`).
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum MethodChoice {
+    /// King & Lind's projection (incompressible SPH).
+    Isph,
+    /// Weakly compressible SPH (Fang et al. 2006; δ-SPH with `density_diffusion`).
+    Wcsph,
+}
+
 #[derive(Clone, Debug, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SchemeSpec {
+    /// `isph` (the projection, default) or `wcsph`.
+    pub method: MethodChoice,
+    /// WCSPH: the speed of sound c (default: from `mach`, see
+    /// `engine::weakly_compressible::sound_speed_for`).
+    pub sound_speed: Option<f64>,
+    /// WCSPH: the Mach number the default c is chosen for (0.1: δρ/ρ ~ 1 %).
+    pub mach: f64,
+    /// WCSPH: Monaghan's artificial viscosity α_Π (Fang et al.: 1) and β_Π (Fang et al.: 2).
+    pub artificial_viscosity: f64,
+    pub artificial_viscosity_beta: f64,
+    /// WCSPH: the artificial stress ε (0 = off; Fang et al.: 0.5 Oldroyd-B, 0.2 Newtonian)
+    /// and its exponent n.
+    pub artificial_stress: f64,
+    pub artificial_stress_exponent: i32,
+    /// WCSPH: δ of the δ-SPH density diffusion (0 = off; Antuono et al. 2010: 0.1).
+    pub density_diffusion: f64,
+    /// A fixed time step instead of the stability rules (either method).
+    pub time_step: Option<f64>,
     pub frame: Frame,
     pub conformation: ConformationScheme,
     /// The velocity gradient of the constitutive update: `auto`, `solenoidal`,
     /// `wall-normal-even` or `raw` (see `engine::kinematics`).
     pub constitutive_gradient: GradientChoice,
-    pub shifting: bool,
+    /// Fickian shifting (default: on for `isph`, off for `wcsph`, whose classic form has
+    /// none; with it, the density is carried by the ALE term u_ps·∇ρ).
+    pub shifting: Option<bool>,
     /// α_V of the EVSS splitting, eqs. (6)–(8).
     pub evss_alpha: f64,
     /// The factor 0.2 of the time-step rule (28).
@@ -203,10 +233,19 @@ pub struct SchemeSpec {
 impl Default for SchemeSpec {
     fn default() -> Self {
         Self {
+            method: MethodChoice::Isph,
+            sound_speed: None,
+            mach: crate::engine::weakly_compressible::DEFAULT_MACH,
+            artificial_viscosity: 0.0,
+            artificial_viscosity_beta: 0.0,
+            artificial_stress: 0.0,
+            artificial_stress_exponent: 4,
+            density_diffusion: 0.0,
+            time_step: None,
             frame: Frame::Lagrangian,
             conformation: ConformationScheme::Log,
             constitutive_gradient: GradientChoice::Auto,
-            shifting: true,
+            shifting: None,
             evss_alpha: 0.0,
             dt_factor: 0.2,
             viscosity: Viscosity::Explicit,

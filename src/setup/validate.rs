@@ -5,7 +5,7 @@ use crate::engine::frame::Frame;
 use crate::engine::projection::Projection;
 use crate::engine::rheology::models::Parameter;
 use crate::engine::rheology::{Fluid, LawEntry, Model, Solvent, ViscosityLaw, LAWS, MODELS};
-use crate::engine::scheme::{PpeSettings, Scheme};
+use crate::engine::scheme::{Method, PpeSettings, Scheme};
 use crate::engine::step::{Scales, Setup};
 use crate::engine::viscosity::Viscosity;
 use crate::setup::error::{field_err, in_range, positive, FieldError};
@@ -67,9 +67,12 @@ impl Case {
     }
 }
 use crate::engine::kinematics::ConstitutiveGradient;
+use crate::engine::weakly_compressible::{
+    sound_speed_for, ArtificialStress, ArtificialViscosity, WeaklyCompressible,
+};
 use crate::setup::schema::{
-    CaseFile, FluidSpec, GradientChoice, PreconditionerChoice, ProjectionChoice, RunSpec,
-    SchemeSpec, AMG_PARTICLES,
+    CaseFile, FluidSpec, GradientChoice, MethodChoice, PreconditionerChoice, ProjectionChoice,
+    RunSpec, SchemeSpec, AMG_PARTICLES,
 };
 use rheosph_solver::Preconditioner;
 
@@ -82,7 +85,7 @@ pub fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
             "acts only on a free surface, and this scene has none (set 0 or omit it)",
         ));
     }
-    let scheme = scheme(&raw.scheme, scene.as_ref())?;
+    let scheme = scheme(&raw.scheme, scene.as_ref(), &fluid)?;
     let run = run(&raw.run, scene.as_ref())?;
     Ok(Case {
         name: name.to_string(),
@@ -260,8 +263,14 @@ fn generalised_newtonian(
     })
 }
 
-fn scheme(s: &SchemeSpec, scene: &dyn Scene) -> Result<Scheme, FieldError> {
+fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, FieldError> {
     let open = scene.has_free_surface();
+    let method = method(s, scene, fluid)?;
+    let weak = matches!(method, Method::WeaklyCompressible(_));
+    let time_step = s
+        .time_step
+        .map(|dt| positive("scheme.time_step", dt))
+        .transpose()?;
     if open && s.frame == Frame::Eulerian {
         return Err(field_err(
             "scheme.frame",
@@ -291,6 +300,8 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene) -> Result<Scheme, FieldError> {
         return Err(field_err("scheme.ppe_max_iterations", "must be at least 1"));
     }
     Ok(Scheme {
+        method,
+        time_step,
         frame: s.frame,
         conformation: s.conformation,
         constitutive_gradient: match s.constitutive_gradient {
@@ -302,7 +313,7 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene) -> Result<Scheme, FieldError> {
             GradientChoice::Raw => ConstitutiveGradient::Raw,
             GradientChoice::WallNormalEven => ConstitutiveGradient::WallNormalEven,
         },
-        shifting: s.shifting,
+        shifting: s.shifting.unwrap_or(!weak),
         evss_alpha,
         dt_factor: s.dt_factor,
         viscosity: s.viscosity,
@@ -344,6 +355,87 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene) -> Result<Scheme, FieldError> {
         free_surface_pressure: s.free_surface_pressure,
         surface_repulsion: s.surface_repulsion,
     })
+}
+
+/// The time integrator and, for the weakly compressible one, its settings; what it cannot
+/// combine with is refused here, naming the key.
+fn method(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Method, FieldError> {
+    if s.method == MethodChoice::Isph {
+        return Ok(Method::Projection);
+    }
+    let refuse = |key: &str, why: &str| {
+        Err(field_err(
+            key,
+            format!("with scheme.method = \"wcsph\": {why}"),
+        ))
+    };
+    if s.frame == Frame::Eulerian {
+        return refuse(
+            "scheme.frame",
+            "weakly compressible particles move with the flow: lagrangian",
+        );
+    }
+    if s.evss_alpha != 0.0 {
+        return refuse(
+            "scheme.evss_alpha",
+            "the polymer stress enters whole in the symmetric form, without EVSS (set 0)",
+        );
+    }
+    if fluid.surface_tension > 0.0 {
+        return refuse(
+            "fluid.surface_tension",
+            "surface tension enters the projection's free-surface pressure only",
+        );
+    }
+    if s.projection == ProjectionChoice::Incremental {
+        return refuse("scheme.projection", "there is no projection");
+    }
+    let mach = positive("scheme.mach", s.mach)?;
+    let u = scene.velocity_scale(fluid);
+    let length = scene.length_scale();
+    let nu = fluid.viscosity / fluid.density;
+    let modulus = if fluid.model.is_viscoelastic() && fluid.relaxation_time > 0.0 {
+        fluid.polymer_viscosity() / (fluid.relaxation_time * fluid.density)
+    } else {
+        0.0
+    };
+    let g = scene.body_force().norm();
+    let sound_speed = match s.sound_speed {
+        Some(c) => positive("scheme.sound_speed", c)?,
+        None => sound_speed_for(mach, u, nu, g, length, modulus),
+    };
+    let alpha = in_range(
+        "scheme.artificial_viscosity",
+        s.artificial_viscosity,
+        0.0,
+        10.0,
+    )?;
+    let beta = in_range(
+        "scheme.artificial_viscosity_beta",
+        s.artificial_viscosity_beta,
+        0.0,
+        10.0,
+    )?;
+    let epsilon = in_range("scheme.artificial_stress", s.artificial_stress, 0.0, 1.0)?;
+    if !(1..=16).contains(&s.artificial_stress_exponent) {
+        return Err(field_err(
+            "scheme.artificial_stress_exponent",
+            format!(
+                "must be an integer in 1..=16 (Fang et al.: 4), got {}",
+                s.artificial_stress_exponent
+            ),
+        ));
+    }
+    let delta = in_range("scheme.density_diffusion", s.density_diffusion, 0.0, 1.0)?;
+    Ok(Method::WeaklyCompressible(WeaklyCompressible {
+        sound_speed,
+        viscosity: ArtificialViscosity { alpha, beta },
+        stress: ArtificialStress {
+            epsilon,
+            exponent: s.artificial_stress_exponent,
+        },
+        density_diffusion: delta,
+    }))
 }
 
 /// The run's validated times.

@@ -364,7 +364,7 @@ impl<'a> Run<'a> {
                 mean_iterations: totals.mean_iterations(),
                 max_iterations: totals.max_iterations,
                 lu_fallbacks: totals.fallbacks,
-                bicgstab_solves: totals.steps - totals.lu_solves,
+                bicgstab_solves: totals.solves - totals.lu_solves,
                 lu_solves: totals.lu_solves,
                 lu_factorisations: sim.ppe_factorisations(),
                 max_relative_residual: totals.max_residual,
@@ -373,6 +373,7 @@ impl<'a> Run<'a> {
                 viscous_mean_iterations: totals.viscous_iterations as f64
                     / totals.steps.max(1) as f64,
             },
+            max_density_deviation: totals.max_density_deviation,
             neighbour_pairs_per_particle: sim.neighbour_pairs() as f64 / particles as f64,
             probes,
             version: env!("CARGO_PKG_VERSION"),

@@ -55,6 +55,9 @@ pub struct Summary {
     pub derived: Derived,
     pub errors: Errors,
     pub ppe: PpeSummary,
+    /// The largest |ρ/ρ0 − 1| after any step: the weakly compressible scheme's compression
+    /// (0 for the projection).
+    pub max_density_deviation: f64,
     pub neighbour_pairs_per_particle: f64,
     /// What the probes report, by name: `steady` (channels with a cylinder: steady state,
     /// time averages, drag and centre-line values), `drop` (the largest width, the final
@@ -90,14 +93,24 @@ pub struct PpeWindow {
     /// Implicit viscous BiCGStab iterations (both components).
     #[serde(default)]
     pub viscous_iterations: u64,
+    /// The largest |ρ/ρ0 − 1| after a step (weakly compressible scheme; 0 for the projection).
+    #[serde(default)]
+    pub max_density_deviation: f64,
+    /// Steps with a PPE solve (all of them for the projection, none for WCSPH).
+    #[serde(default)]
+    pub solves: u64,
 }
 
 impl PpeWindow {
     pub fn add(&mut self, step: &crate::engine::step::StepReport) {
         self.max_elastic_courant = self.max_elastic_courant.max(step.elastic_courant);
         self.viscous_iterations += step.viscous_iterations as u64;
-        let r = &step.ppe;
         self.steps += 1;
+        self.max_density_deviation = self.max_density_deviation.max(step.density_deviation);
+        let Some(r) = &step.ppe else {
+            return;
+        };
+        self.solves += 1;
         self.iterations += r.iterations as u64;
         self.max_iterations = self.max_iterations.max(r.iterations);
         self.max_residual = self.max_residual.max(r.relative_residual);
@@ -107,10 +120,10 @@ impl PpeWindow {
     }
 
     pub fn mean_iterations(&self) -> f64 {
-        if self.steps == 0 {
+        if self.solves == 0 {
             0.0
         } else {
-            self.iterations as f64 / self.steps as f64
+            self.iterations as f64 / self.solves as f64
         }
     }
 }
@@ -151,6 +164,12 @@ pub fn report_start(case: &Case, d: &Derived) {
         "  {} particles (~{:.0} MB), dr = {:.4e}, h = {:.4e}; U = {:.4e}; dt limits: viscous {:.3e}, advective {:.3e}, elastic {:.3e}, capillary {:.3e}; ~{:.0} steps",
         d.particles, d.estimated_memory_bytes / 1e6, d.particle_spacing, d.smoothing_length, d.velocity_scale, d.dt_viscous, d.dt_advective_at_u, d.dt_elastic, d.dt_capillary, d.estimated_steps
     );
+    if d.sound_speed > 0.0 {
+        eprintln!(
+            "  weakly compressible: c = {:.4e}, acoustic dt limit {:.3e}",
+            d.sound_speed, d.dt_acoustic
+        );
+    }
     eprintln!(
         "  frame {:?}, conformation {:?}, shifting {}, {} threads",
         case.scheme.frame,

@@ -75,6 +75,20 @@ impl ConformationStage {
         (grad_u, u_ps): (&[Mat2], &[Vec2]),
         conformation: &mut [Sym2],
     ) {
+        self.advance(fluid, dt, hood, (grad_u, u_ps), conformation);
+        self.evss_divergence(fluid, hood, grad_u, conformation);
+    }
+
+    /// Advances `conformation` from A^{n−½} to A^{n+½} only (a scheme that forms its own
+    /// stress divergence: the weakly compressible one).
+    pub fn advance(
+        &mut self,
+        fluid: &Fluid,
+        dt: f64,
+        hood: (&NeighbourList, &KernelSums, &Ghosts),
+        (grad_u, u_ps): (&[Mat2], &[Vec2]),
+        conformation: &mut [Sym2],
+    ) {
         let (list, sums, ghosts) = hood;
         let n = conformation.len();
         let lambda = fluid.relaxation_time;
@@ -103,7 +117,6 @@ impl ConformationStage {
                 });
             }
         }
-        self.evss_divergence(fluid, hood, grad_u, conformation);
     }
 
     /// Φ = τ_p − α_V η0 2D, eq. (6), with D from ∇u^n, and ∇·Φ.

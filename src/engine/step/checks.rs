@@ -3,6 +3,7 @@
 
 use super::{Breakdown, Simulation};
 use crate::engine::reduce::blocked_sum;
+use crate::engine::weakly_compressible::DENSITY_DEVIATION_LIMIT;
 use rayon::prelude::*;
 
 /// Kinetic energy per unit mass above which a run has run away: an r.m.s. speed of 100 U.
@@ -44,6 +45,15 @@ impl Simulation {
         }
         if let Some(stage) = self.stages.conformation.as_ref() {
             stage.check(&s.conformation).or_else(fail)?;
+        }
+        if let Some(weak) = self.stages.weak.as_ref() {
+            let deviation = weak.density_deviation(&s.pressure);
+            if deviation > DENSITY_DEVIATION_LIMIT {
+                return fail(format!(
+                    "density deviates by {:.1} % from ρ0 (weak compressibility is designed for ~1 %): the speed of sound is too low for this flow",
+                    100.0 * deviation
+                ));
+            }
         }
         if self.stages.free_surface.is_some() {
             let d = &self.domain;

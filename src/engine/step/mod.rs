@@ -38,12 +38,13 @@ use crate::engine::predictor::{predict, PredictorTerms};
 use crate::engine::pressure::PressureStage;
 use crate::engine::projection::ProjectionStage;
 use crate::engine::rheology::{ConformationStage, Fluid};
-use crate::engine::scheme::Scheme;
+use crate::engine::scheme::{Method, Scheme};
 use crate::engine::shifting::{ShiftInputs, ShiftRule, Shifting};
 use crate::engine::timing::{Stage, StageSeconds};
 use crate::engine::viscosity::{
     elastic_wave_speed, DtInputs, ShearDependentViscosity, ViscousStage,
 };
+use crate::engine::weakly_compressible::{MomentumInputs, WeakStage};
 use rayon::prelude::*;
 
 /// Everything needed to start a simulation.
@@ -93,6 +94,8 @@ struct Stages {
     bodies: Bodies,
     projection: ProjectionStage,
     pressure: PressureStage,
+    /// The weakly compressible scheme, which replaces Steps 5–6 (None: the projection).
+    weak: Option<WeakStage>,
 }
 
 /// A running simulation.
@@ -135,6 +138,7 @@ impl Simulation {
         } else {
             DivergenceForm::Negative
         };
+        let kernel = QuinticSpline::for_spacing(setup.spacing);
         let stages = Stages {
             reordering: Reordering::new(scheme.reorder, scheme.frame.moves_particles()),
             hood: Neighbourhood::new(ghosts),
@@ -163,9 +167,15 @@ impl Simulation {
             bodies,
             projection: ProjectionStage::new(scheme.projection),
             pressure: PressureStage::new(scheme.ppe, scheme.frame),
+            weak: match scheme.method {
+                Method::Projection => None,
+                Method::WeaklyCompressible(w) => {
+                    Some(WeakStage::new(w, fluid.density, &kernel, setup.spacing))
+                }
+            },
         };
         Self {
-            kernel: QuinticSpline::for_spacing(setup.spacing),
+            kernel,
             fluid,
             scheme,
             spacing: setup.spacing,
@@ -230,7 +240,16 @@ impl Simulation {
             .viscosity
             .dt_limit(fluid, self.stages.nu, &inputs);
         let wave_speed = elastic_wave_speed(fluid, max_polymer_stress);
-        (self.scheme.dt_factor * limit, wave_speed)
+        let acoustic = self
+            .stages
+            .weak
+            .as_ref()
+            .map_or(f64::INFINITY, |w| w.dt_limit(inputs.h, max_speed));
+        let dt = match self.scheme.time_step {
+            Some(fixed) => fixed,
+            None => (self.scheme.dt_factor * limit).min(acoustic),
+        };
+        (dt, wave_speed)
     }
 
     /// Sorts the fluid particles along a Morton curve of their cells (see
@@ -290,8 +309,19 @@ impl Simulation {
         self.kinematics(dt);
         self.constitutive_update(dt);
         let viscous_iterations = self.predictor(dt)?;
-        let ppe = self.pressure_poisson(dt)?;
-        self.projection(dt);
+        let ppe = if self.stages.weak.is_some() {
+            self.continuity(dt);
+            None
+        } else {
+            let report = self.pressure_poisson(dt)?;
+            self.projection(dt);
+            Some(report)
+        };
+        let density_deviation = self
+            .stages
+            .weak
+            .as_ref()
+            .map_or(0.0, |w| w.density_deviation(&self.state.pressure));
         self.final_positions(dt);
         self.move_bodies(dt);
         let dv = self.particle_volume();
@@ -310,6 +340,7 @@ impl Simulation {
             ppe,
             elastic_courant: dt * wave_speed / self.kernel.h(),
             viscous_iterations,
+            density_deviation,
         })
     }
 
@@ -400,14 +431,13 @@ impl Simulation {
     fn constitutive_update(&mut self, dt: f64) {
         let (st, s, fluid) = (&mut self.stages, &mut self.state, &self.fluid);
         if let Some(stage) = st.conformation.as_mut() {
+            let inputs = (st.kinematics.constitutive(), &s.shift_velocity[..]);
             self.timers.time(Stage::Constitutive, || {
-                stage.update(
-                    fluid,
-                    dt,
-                    st.hood.parts(),
-                    (st.kinematics.constitutive(), &s.shift_velocity),
-                    &mut s.conformation,
-                )
+                if st.weak.is_some() {
+                    stage.advance(fluid, dt, st.hood.parts(), inputs, &mut s.conformation)
+                } else {
+                    stage.update(fluid, dt, st.hood.parts(), inputs, &mut s.conformation)
+                }
             });
         }
     }
@@ -419,8 +449,22 @@ impl Simulation {
         let inv_rho = 1.0 / self.fluid.density;
         let body_force = s.body_force;
         let factor = st.shear_viscosity.as_ref().map_or(&[][..], |v| v.factor());
+        let fluid = &self.fluid;
+        let kernel = &self.kernel;
         self.timers.time(Stage::Predictor, || {
             let hood = st.hood.parts();
+            let weak = st.weak.as_mut().map(|w| {
+                let inputs = MomentumInputs {
+                    hood,
+                    kernel,
+                    pressure: &s.pressure,
+                    velocity_ext: &st.kinematics.velocity_ext,
+                    conformation: &s.conformation,
+                    fluid,
+                    grad_u: &st.kinematics.grad_u,
+                };
+                w.momentum(&inputs)
+            });
             let terms = PredictorTerms {
                 grad_u: &st.kinematics.grad_u,
                 u_ps: &s.shift_velocity,
@@ -428,7 +472,12 @@ impl Simulation {
                     .viscous
                     .explicit_laplacian(hood.0, hood.1, &st.kinematics.velocity_ext, factor)
                     .map(|laplacian| (laplacian, st.nu)),
-                stress: st.conformation.as_ref().map(|c| c.stress_divergence()),
+                stress: st
+                    .conformation
+                    .as_ref()
+                    .filter(|_| weak.is_none())
+                    .map(|c| c.stress_divergence()),
+                weak,
                 body_force,
                 old_pressure_gradient: st.projection.old_pressure_gradient(hood, &s.pressure),
                 inv_rho,
@@ -492,6 +541,29 @@ impl Simulation {
             .map_err(|e| Breakdown {
                 reason: format!("pressure Poisson solve failed: {e}"),
             })
+    }
+
+    /// The weakly compressible scheme's Steps 5–6: p^{n+1} from continuity with u^{n+1} (the
+    /// predictor's u*, which it is), see [`crate::engine::weakly_compressible`].
+    fn continuity(&mut self, dt: f64) {
+        let (st, s, kernel) = (&mut self.stages, &mut self.state, &self.kernel);
+        let Some(weak) = st.weak.as_mut() else {
+            return;
+        };
+        if let Some(inflow) = self.inflow.as_ref() {
+            inflow.prescribe(&mut st.velocity_star, inflow.velocity);
+        }
+        let hood = st.hood.parts();
+        let shift = self.scheme.shifting.then_some(&s.shift_velocity[..]);
+        self.timers.time(Stage::Projection, || {
+            weak.continuity(
+                hood,
+                kernel,
+                (&st.velocity_star, shift),
+                &mut s.pressure,
+                dt,
+            )
+        });
     }
 
     /// Step 6: u^{n+1} = u* − (δt/ρ)∇p^{n+1} (or ∇ of the increment), written over u*.
@@ -571,6 +643,17 @@ impl Simulation {
             + b(&st.velocity_star)
             + st.projection.heap_bytes()
             + st.pressure.heap_bytes()
+            + st.weak.as_ref().map_or(0, |w| w.heap_bytes())
+    }
+
+    /// The fluid volume Σ m_i/ρ_i: N δV for the projection (incompressible particles), and
+    /// with each particle's density from its pressure for the weakly compressible scheme.
+    pub fn fluid_volume(&self) -> f64 {
+        let dv = self.particle_volume();
+        match self.stages.weak.as_ref() {
+            Some(w) => w.volume(&self.state.pressure) * dv,
+            None => self.particles() as f64 * dv,
+        }
     }
 
     /// Neighbour pairs of the last step (for memory and cost reports).

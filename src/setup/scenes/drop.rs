@@ -112,6 +112,7 @@ impl DropSpec {
                 centre: Vec2::new(0.0, centre_height),
                 diameter: w,
                 speed,
+                plate: self.plate.unwrap_or(true),
             },
             plate: self.plate.unwrap_or(true),
             aspect_ratio,

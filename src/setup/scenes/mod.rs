@@ -90,6 +90,8 @@ pub struct DropShape {
     pub centre: Vec2,
     pub diameter: f64,
     pub speed: f64,
+    /// Whether it falls onto a plate (false: a free drop).
+    pub plate: bool,
 }
 
 /// The orifice of a jet scene: width D and height above the plate.

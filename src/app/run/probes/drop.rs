@@ -41,7 +41,9 @@ pub struct DropSummary {
     pub interior_pressure: f64,
     /// Largest particle speed over the rows of the last 20 % of the run.
     pub late_max_speed: f64,
-    /// The mode-2 period, when mode2 crosses zero at least three times.
+    /// Largest |V/V0 − 1| of the volume Σ m_i/ρ_i (0 for the projection).
+    pub max_volume_error: f64,
+    /// A free drop's mode-2 period, when mode2 crosses zero at least three times.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub oscillation_period: Option<f64>,
     /// The decay rate γ of mode2 ∝ e^{−γt} from its extrema (at least two).
@@ -63,15 +65,20 @@ pub struct DropRow {
     pub mode2: f64,
     pub interior_pressure: f64,
     pub max_speed: f64,
+    /// Σ m_i/ρ_i over N δV, the volume at ρ0 (1 for the projection, whose particles keep
+    /// ρ0; the weakly compressible scheme's compression).
+    pub volume: f64,
 }
 
-const HEADER: &str = "t,t_star,width_star,height_star,area,area_drift,surface_particles,max_trace_a,mode2,interior_pressure,max_speed";
-const COLUMNS: usize = 11;
+const HEADER: &str = "t,t_star,width_star,height_star,area,area_drift,surface_particles,max_trace_a,mode2,interior_pressure,max_speed,volume";
+const COLUMNS: usize = 12;
 
 /// The drop probe of a run: its diameter and impact speed, and the rows so far.
 pub struct DropProbe {
     pub diameter: f64,
     pub speed: f64,
+    /// A free drop (no plate): its mode-2 period and decay are summarised.
+    pub free: bool,
     pub rows: Vec<DropRow>,
     reference_area: Option<f64>,
 }
@@ -81,6 +88,7 @@ impl DropProbe {
         Self {
             diameter,
             speed,
+            free: false,
             rows: Vec::new(),
             reference_area: None,
         }
@@ -105,6 +113,7 @@ impl DropProbe {
                     mode2: v[8],
                     interior_pressure: v[9],
                     max_speed: v[10],
+                    volume: v[11],
                 });
             }
         }
@@ -141,6 +150,7 @@ impl DropProbe {
         let max_trace_a = s.conformation.iter().map(|a| a.trace()).fold(2.0, f64::max);
         let (mode2, interior_pressure) = self.moments(sim);
         let max_speed = s.velocity.iter().map(|u| u.norm()).fold(0.0, f64::max);
+        let volume = sim.fluid_volume() / (sim.particles() as f64 * sim.particle_volume());
         self.rows.push(DropRow {
             t: s.time,
             t_star: s.time * self.speed / self.diameter,
@@ -153,6 +163,7 @@ impl DropProbe {
             mode2,
             interior_pressure,
             max_speed,
+            volume,
         });
     }
 
@@ -188,7 +199,7 @@ impl DropProbe {
         out.push('\n');
         for r in &self.rows {
             out.push_str(&format!(
-                "{:.8e},{:.6e},{:.6e},{:.6e},{:.6e},{:.4e},{},{:.6e},{:.8e},{:.8e},{:.6e}\n",
+                "{:.8e},{:.6e},{:.6e},{:.6e},{:.6e},{:.4e},{},{:.6e},{:.8e},{:.8e},{:.6e},{:.8e}\n",
                 r.t,
                 r.t_star,
                 r.width,
@@ -199,7 +210,8 @@ impl DropProbe {
                 r.max_trace_a,
                 r.mode2,
                 r.interior_pressure,
-                r.max_speed
+                r.max_speed,
+                r.volume
             ));
         }
         out
@@ -233,8 +245,13 @@ impl DropProbe {
             interior_pressure: late.iter().map(|r| r.interior_pressure).sum::<f64>()
                 / late.len() as f64,
             late_max_speed: late.iter().map(|r| r.max_speed).fold(0.0, f64::max),
-            oscillation_period: oscillation_period(&self.rows),
-            decay_rate: decay_rate(&self.rows),
+            max_volume_error: self
+                .rows
+                .iter()
+                .map(|r| (r.volume - 1.0).abs())
+                .fold(0.0, f64::max),
+            oscillation_period: oscillation_period(&self.rows).filter(|_| self.free),
+            decay_rate: decay_rate(&self.rows).filter(|_| self.free),
         })
     }
 

@@ -69,7 +69,9 @@ impl Probes {
         }
         if let Some(d) = scene.drop_shape() {
             let speed = scene.velocity_scale(&case.fluid);
-            probes.push(Box::new(drop::DropProbe::new(d.diameter, speed)));
+            let mut probe = drop::DropProbe::new(d.diameter, speed);
+            probe.free = !d.plate;
+            probes.push(Box::new(probe));
         }
         if let Some(j) = scene.jet_shape() {
             probes.push(Box::new(jet::JetProbe::new(j.width)));
