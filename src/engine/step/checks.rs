@@ -47,7 +47,7 @@ impl Simulation {
             stage.check(&s.conformation).or_else(fail)?;
         }
         if let Some(weak) = self.stages.weak.as_ref() {
-            let deviation = weak.density_deviation(&s.pressure);
+            let deviation = weak.density_deviation();
             if deviation > DENSITY_DEVIATION_LIMIT {
                 return fail(format!(
                     "density deviates by {:.1} % from ρ0 (weak compressibility is designed for ~1 %): the speed of sound is too low for this flow",

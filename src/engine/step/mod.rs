@@ -321,7 +321,7 @@ impl Simulation {
             .stages
             .weak
             .as_ref()
-            .map_or(0.0, |w| w.density_deviation(&self.state.pressure));
+            .map_or(0.0, |w| w.density_deviation());
         self.final_positions(dt);
         self.move_bodies(dt);
         let dv = self.particle_volume();

@@ -105,6 +105,8 @@ pub struct WeakStage {
     /// The momentum terms of this scheme, per fluid particle.
     acceleration: Vec<Vec2>,
     rate: Vec<f64>,
+    /// The largest |ρ/ρ0 − 1| of the last update.
+    deviation: f64,
 }
 
 /// What the momentum sum reads.
@@ -143,6 +145,7 @@ impl WeakStage {
             gradient_ext: Vec::new(),
             acceleration: Vec::new(),
             rate: Vec::new(),
+            deviation: 0.0,
         }
     }
 
@@ -159,14 +162,9 @@ impl WeakStage {
             + b(&self.rate)
     }
 
-    /// The largest |ρ/ρ0 − 1| of a pressure field.
-    pub fn density_deviation(&self, pressure: &[f64]) -> f64 {
-        let c2 = self.settings.sound_speed.powi(2);
-        let max_p = pressure
-            .par_iter()
-            .map(|p| p.abs())
-            .reduce(|| 0.0, f64::max);
-        max_p / (self.eos.rho0 * c2)
+    /// The largest |ρ/ρ0 − 1| after the last continuity update (0 before the first).
+    pub fn density_deviation(&self) -> f64 {
+        self.deviation
     }
 
     /// The fluid volume Σ m_i/ρ_i of a pressure field, in units of δV.
@@ -305,9 +303,14 @@ impl WeakStage {
                 *rate += u_ps[i].dot(&grad[i]);
             }
         });
-        pressure
+        let max_p = pressure
             .par_iter_mut()
             .zip(self.rate.par_iter())
-            .for_each(|(p, r)| *p += dt * r);
+            .map(|(p, r)| {
+                *p += dt * r;
+                p.abs()
+            })
+            .reduce(|| 0.0, f64::max);
+        self.deviation = max_p / (rho0 * c * c);
     }
 }
