@@ -1,7 +1,10 @@
 //! `rheosph study ...`: its arguments, and their dispatch into a [`Base`] and the study's
 //! settings.
 
-use super::{convergence, cylinder, parse_vary, speed_accuracy, stability, Base};
+use super::{
+    convergence, cylinder, parse_variant, parse_vary, speed_accuracy, stability, variants, Base,
+    Variant,
+};
 use crate::app::cli::args::CaseArgs;
 use anyhow::Result;
 use clap::{Args, Subcommand};
@@ -67,6 +70,11 @@ pub struct StabilityArgs {
     /// A scheme variant dimension, `key=v1,v2` (repeatable; all combinations run).
     #[arg(long = "vary", value_name = "KEY=V1,V2")]
     pub vary: Vec<String>,
+    /// One variant, `key=v;key=v` (repeatable): studies of variants that are not a product,
+    /// e.g. `--variant scheme.method=isph --variant 'scheme.method=wcsph;scheme.density_diffusion=0.1'`.
+    /// Each is combined with every `--vary` combination.
+    #[arg(long = "variant", value_name = "KEY=V;KEY=V")]
+    pub variant: Vec<String>,
     /// Largest time-mean L2 error (in U) of a run counted as accurate.
     #[arg(long, default_value_t = 0.1)]
     pub accuracy: f64,
@@ -84,6 +92,9 @@ pub struct SpeedAccuracyArgs {
     /// A configuration dimension, `key=v1,v2` (repeatable; all combinations run).
     #[arg(long = "vary", value_name = "KEY=V1,V2")]
     pub vary: Vec<String>,
+    /// One configuration, `key=v;key=v` (repeatable), combined with every `--vary` combination.
+    #[arg(long = "variant", value_name = "KEY=V;KEY=V")]
+    pub variant: Vec<String>,
 }
 
 fn base_and_out(common: &StudyCommon, study: &str) -> Result<(Base, PathBuf)> {
@@ -99,12 +110,17 @@ fn base_and_out(common: &StudyCommon, study: &str) -> Result<(Base, PathBuf)> {
     Ok((base, out))
 }
 
-/// Every `--vary key=v1,v2` of a study.
-fn parse_varies(vary: &[String]) -> Result<Vec<(String, Vec<String>)>> {
-    Ok(vary
+/// The variants of a study from its `--variant` and `--vary` arguments.
+fn parse_variants(explicit: &[String], vary: &[String]) -> Result<Vec<Variant>> {
+    let varies = vary
         .iter()
         .map(|v| parse_vary(v))
-        .collect::<Result<Vec<_>, _>>()?)
+        .collect::<Result<Vec<_>, _>>()?;
+    let explicit = explicit
+        .iter()
+        .map(|v| parse_variant(v))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(variants(&explicit, &varies))
 }
 
 pub fn dispatch(command: StudyCommand, quiet: bool) -> Result<()> {
@@ -140,11 +156,11 @@ pub fn dispatch(command: StudyCommand, quiet: bool) -> Result<()> {
                 stability::replot(&out, a.common.figure_format, a.accuracy)?;
                 return Ok(());
             }
-            let varies = parse_varies(&a.vary)?;
+            let schemes = parse_variants(&a.variant, &a.vary)?;
             let rows = stability::run(
                 &base,
                 &a.wi,
-                &varies,
+                &schemes,
                 a.accuracy,
                 &out,
                 a.common.figure_format,
@@ -160,11 +176,11 @@ pub fn dispatch(command: StudyCommand, quiet: bool) -> Result<()> {
         }
         StudyCommand::SpeedAccuracy(a) => {
             let (base, out) = base_and_out(&a.common, "speed-accuracy")?;
-            let varies = parse_varies(&a.vary)?;
+            let schemes = parse_variants(&a.variant, &a.vary)?;
             let points = speed_accuracy::run(
                 &base,
                 &a.resolutions,
-                &varies,
+                &schemes,
                 &out,
                 a.common.figure_format,
                 a.common.jobs,

@@ -78,6 +78,59 @@ pub fn parse_vary(arg: &str) -> Result<(String, Vec<String>), CaseError> {
     Ok((key.trim().to_string(), values))
 }
 
+/// One explicit variant from a `--variant` argument: `key=value` pairs separated by `;`
+/// (e.g. `scheme.method=wcsph;scheme.density_diffusion=0.1`), labelled by its pairs.
+pub fn parse_variant(arg: &str) -> Result<Variant, CaseError> {
+    let mut v = Variant {
+        label: String::new(),
+        overrides: Vec::new(),
+        tags: Vec::new(),
+    };
+    for pair in arg.split(';').map(str::trim).filter(|p| !p.is_empty()) {
+        let (key, value) = pair.split_once('=').ok_or_else(|| CaseError {
+            file: "--variant".into(),
+            field: String::new(),
+            message: format!("{arg:?}: expected key=value;key=value"),
+        })?;
+        let (key, value) = (key.trim(), value.trim());
+        let short = key.rsplit('.').next().unwrap_or(key);
+        if !v.label.is_empty() {
+            v.label.push(' ');
+        }
+        v.label.push_str(&format!("{short}={value}"));
+        v.overrides.push(format!("{key}={value}"));
+        v.tags.push((key.to_string(), value.to_string()));
+    }
+    Ok(v)
+}
+
+/// The variants of a study: each `--variant` (or one empty variant when there are none),
+/// each combined with every combination of the `--vary` dimensions.
+pub fn variants(explicit: &[Variant], varies: &[(String, Vec<String>)]) -> Vec<Variant> {
+    let empty = [Variant {
+        label: String::new(),
+        overrides: Vec::new(),
+        tags: Vec::new(),
+    }];
+    let explicit = if explicit.is_empty() { &empty[..] } else { explicit };
+    let mut out = Vec::new();
+    for e in explicit {
+        for v in product(varies) {
+            let label = format!("{} {}", e.label, v.label).trim().to_string();
+            let mut overrides = e.overrides.clone();
+            overrides.extend(v.overrides);
+            let mut tags = e.tags.clone();
+            tags.extend(v.tags);
+            out.push(Variant {
+                label,
+                overrides,
+                tags,
+            });
+        }
+    }
+    out
+}
+
 /// The Cartesian product of the `--vary` arguments (one empty variant when there are none).
 pub fn product(varies: &[(String, Vec<String>)]) -> Vec<Variant> {
     let mut out = vec![Variant {
@@ -234,6 +287,28 @@ mod tests {
         );
         assert!(parse_vary("scheme.frame").is_err());
         assert!(parse_vary("scheme.frame=").is_err());
+    }
+
+    #[test]
+    fn explicit_variants_combine_with_every_vary() {
+        let explicit = [
+            parse_variant("scheme.method=isph").unwrap(),
+            parse_variant("scheme.method=wcsph; scheme.density_diffusion=0.1").unwrap(),
+        ];
+        let v = variants(&explicit, &[parse_vary("scene.resolution=15,30").unwrap()]);
+        assert_eq!(v.len(), 4);
+        assert_eq!(v[3].label, "method=wcsph density_diffusion=0.1 resolution=30");
+        assert_eq!(
+            v[3].overrides,
+            vec![
+                "scheme.method=wcsph",
+                "scheme.density_diffusion=0.1",
+                "scene.resolution=30"
+            ]
+        );
+        // No --variant: the product alone, as before.
+        assert_eq!(variants(&[], &[]).len(), 1);
+        assert!(parse_variant("scheme.method").is_err());
     }
 
     #[test]

@@ -2,7 +2,7 @@
 //! (resolution × variant), with the Pareto front: the cheapest configuration for each
 //! required accuracy.
 
-use super::{product, run_all, Base, Variant};
+use super::{run_all, Base, Variant};
 use crate::app::plot::FigureFormat;
 use crate::app::plot::{self, Chart, Curve, CurveStyle, PALETTE};
 use anyhow::Result;
@@ -38,14 +38,14 @@ fn mark_pareto(points: &mut [Point]) {
 pub fn run(
     base: &Base,
     resolutions: &[usize],
-    varies: &[(String, Vec<String>)],
+    schemes: &[Variant],
     out: &Path,
     format: FigureFormat,
     jobs: usize,
     quiet: bool,
 ) -> Result<Vec<Point>> {
     let mut variants = Vec::new();
-    for v in product(varies) {
+    for v in schemes {
         for r in resolutions {
             let mut w: Variant = v.clone();
             w.overrides.push(format!("scene.resolution={r}"));
@@ -104,7 +104,7 @@ pub fn run(
         style: CurveStyle::Line,
         color: PALETTE[0],
     }];
-    for (k, v) in product(varies).iter().enumerate() {
+    for (k, v) in schemes.iter().enumerate() {
         curves.push(Curve {
             label: if v.label.is_empty() {
                 "runs".into()

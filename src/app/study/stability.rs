@@ -8,7 +8,7 @@
 //! 10 % of U, is about ten times the error of a resolved run at H/δr = 30 (0.9 %) and far
 //! below the O(1) errors of a run that has left the solution.
 
-use super::{product, run_all, Base, Variant};
+use super::{run_all, Base, Variant};
 use crate::app::plot::FigureFormat;
 use crate::app::plot::{self, Chart, Curve, CurveStyle};
 use crate::app::run::Outcome;
@@ -55,7 +55,7 @@ pub struct Row {
 pub fn run(
     base: &Base,
     wis: &[f64],
-    varies: &[(String, Vec<String>)],
+    schemes: &[Variant],
     accuracy: f64,
     out: &Path,
     format: FigureFormat,
@@ -65,7 +65,7 @@ pub fn run(
     let scale = base.case(&[])?;
     let d = scale.derived();
     let mut variants = Vec::new();
-    for v in product(varies) {
+    for v in schemes {
         for &wi in wis {
             let lambda = wi * scale.scene.length_scale() / d.velocity_scale;
             let mut w: Variant = v.clone();
