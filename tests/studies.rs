@@ -51,7 +51,7 @@ fn convergence_study_writes_its_table_and_figures() {
 #[test]
 fn stability_study_records_a_forced_breakdown() {
     let out = tempfile::tempdir().unwrap();
-    let varies = vec![study::parse_vary("scheme.dt_factor=0.2,8").unwrap()];
+    let varies = study::product(&[study::parse_vary("scheme.dt_factor=0.2,8").unwrap()]);
     let rows = study::stability::run(
         &base(&["scene.resolution=12", "run.end_time=2"]),
         &[1.0],
@@ -77,7 +77,8 @@ fn stability_study_records_a_forced_breakdown() {
 #[test]
 fn speed_accuracy_study_marks_a_pareto_front() {
     let out = tempfile::tempdir().unwrap();
-    let varies = vec![study::parse_vary("scheme.viscosity=explicit,implicit").unwrap()];
+    let varies =
+        study::product(&[study::parse_vary("scheme.viscosity=explicit,implicit").unwrap()]);
     let points = study::speed_accuracy::run(
         &base(&["run.end_time=0.3"]),
         &[12, 24],

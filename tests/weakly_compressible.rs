@@ -18,10 +18,26 @@ use std::path::Path;
 /// below the body-force scale ρgH the speed of sound was chosen for).
 #[test]
 fn wcsph_channel_follows_waters_king() {
+    wcsph_channel("mirror");
+}
+
+/// The same channel with the walls' ghosts on a fixed lattice (`scheme.wall_model =
+/// "fixed-ghost"`) and the same bounds: in a channel the fixed ghosts start where the mirrors
+/// are, and each takes the value of the particle nearest its mirror point, so the wall model
+/// must not cost accuracy where mirrors are exact. Measured: final L2 4.1 % (mirrors: 3.9 %;
+/// the projection with fixed ghosts 4.0 %, with mirrors 4.0 %).
+#[test]
+fn wcsph_channel_with_fixed_ghosts_follows_waters_king() {
+    wcsph_channel("fixed-ghost");
+}
+
+fn wcsph_channel(wall_model: &str) {
+    let model = format!("scheme.wall_model={wall_model:?}");
     let case = poiseuille(&[
         "scheme.method=\"wcsph\"",
         "scene.resolution=15",
         "run.end_time=5",
+        &model,
     ]);
     let (s, _dir) = run_quiet(&case, false);
     assert_eq!(s.outcome, Outcome::Finished, "{:?}", s.reason);

@@ -2,7 +2,7 @@
 //! builds one stage object per choice ([`crate::engine::step::Simulation::new`]); nothing
 //! re-tests these inside the time loop.
 
-use crate::engine::boundary::TensorMirror;
+use crate::engine::boundary::{TensorMirror, WallModel};
 use crate::engine::frame::Frame;
 use crate::engine::free_surface::SurfacePressure;
 use crate::engine::kinematics::ConstitutiveGradient;
@@ -36,6 +36,8 @@ pub struct Scheme {
     pub reorder: bool,
     /// How the conformation is carried onto wall mirrors.
     pub wall_conformation: TensorMirror,
+    /// Mirrors or a fixed ghost lattice behind plane walls.
+    pub wall_model: WallModel,
     /// Free surfaces: the Dirichlet pressure rule.
     pub free_surface_pressure: SurfacePressure,
     /// Free surfaces: the repulsive term of (42)–(44) in the shifting of internal particles.

@@ -3,7 +3,7 @@
 //! model has it), so that every error names its dotted field. Serialized back into the run
 //! directory (`case.toml`) and the summary.
 
-use crate::engine::boundary::TensorMirror;
+use crate::engine::boundary::{TensorMirror, WallModel};
 use crate::engine::frame::Frame;
 use crate::engine::free_surface::SurfacePressure;
 use crate::engine::rheology::ConformationScheme;
@@ -221,6 +221,8 @@ pub struct SchemeSpec {
     pub reorder: bool,
     /// How the conformation is carried onto wall mirrors.
     pub wall_conformation: TensorMirror,
+    /// `mirror` or `fixed-ghost`: how the particles behind plane walls are placed.
+    pub wall_model: WallModel,
     /// `auto`, `standard` or `incremental` pressure projection.
     pub projection: ProjectionChoice,
     /// Free surfaces: `normal-stress` (35a) or `zero` Dirichlet pressure.
@@ -261,6 +263,7 @@ impl Default for SchemeSpec {
             preconditioner: PreconditionerChoice::Auto,
             reorder: true,
             wall_conformation: TensorMirror::Even,
+            wall_model: WallModel::Mirror,
             projection: ProjectionChoice::Auto,
             free_surface_pressure: SurfacePressure::NormalStress,
             surface_repulsion: true,

@@ -352,6 +352,7 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
         },
         reorder: s.reorder,
         wall_conformation: s.wall_conformation,
+        wall_model: s.wall_model,
         free_surface_pressure: s.free_surface_pressure,
         surface_repulsion: s.surface_repulsion,
     })

@@ -112,7 +112,11 @@ pub fn variants(explicit: &[Variant], varies: &[(String, Vec<String>)]) -> Vec<V
         overrides: Vec::new(),
         tags: Vec::new(),
     }];
-    let explicit = if explicit.is_empty() { &empty[..] } else { explicit };
+    let explicit = if explicit.is_empty() {
+        &empty[..]
+    } else {
+        explicit
+    };
     let mut out = Vec::new();
     for e in explicit {
         for v in product(varies) {
@@ -297,7 +301,10 @@ mod tests {
         ];
         let v = variants(&explicit, &[parse_vary("scene.resolution=15,30").unwrap()]);
         assert_eq!(v.len(), 4);
-        assert_eq!(v[3].label, "method=wcsph density_diffusion=0.1 resolution=30");
+        assert_eq!(
+            v[3].label,
+            "method=wcsph density_diffusion=0.1 resolution=30"
+        );
         assert_eq!(
             v[3].overrides,
             vec![

@@ -8,10 +8,12 @@
 //! extends fluid fields to them by each wall's condition.
 
 pub mod condition;
+pub mod fixed;
 pub mod inflow;
 pub mod shape;
 
 pub use condition::{NoSlip, RigidNoSlip, SlidingNoSlip, TensorMirror, WallCondition};
+pub use fixed::WallModel;
 pub use shape::{Circle, Plane, Shape};
 
 use crate::engine::math::{Sym2, Vec2};
@@ -83,13 +85,24 @@ pub struct Ghosts {
     pressure_sign: Vec<f64>,
     /// The box whose periodic axes circles are seen across (None: no periodic images).
     pub domain: Option<Domain>,
+    /// δr of the fixed ghost lattice behind plane walls (None: mirrors everywhere).
+    lattice: Option<f64>,
+    /// Scratch of the fixed lattice's nearest-particle search and its ghosts.
+    near: Vec<fixed::NearParticle>,
+    lattice_ghosts: Vec<fixed::FixedGhost>,
 }
 
 impl Ghosts {
     /// Heap bytes held.
     pub fn heap_bytes(&self) -> usize {
         use crate::engine::vec_bytes as b;
-        b(&self.parent) + b(&self.wall) + b(&self.volume) + b(&self.normal) + b(&self.offset)
+        b(&self.parent)
+            + b(&self.wall)
+            + b(&self.volume)
+            + b(&self.normal)
+            + b(&self.offset)
+            + b(&self.near)
+            + b(&self.lattice_ghosts)
     }
 
     pub fn new(walls: Vec<Wall>) -> Self {
@@ -99,6 +112,12 @@ impl Ghosts {
             walls,
             ..Default::default()
         }
+    }
+
+    /// Places the ghosts of plane walls on a fixed lattice of spacing `spacing`
+    /// ([`WallModel::FixedGhost`]); mirrors otherwise.
+    pub fn set_model(&mut self, model: WallModel, spacing: f64) {
+        self.lattice = (model == WallModel::FixedGhost).then_some(spacing);
     }
 
     /// Replaces wall `k` (a body that moved); its mirrors follow at the next [`Self::build`].
@@ -135,6 +154,9 @@ impl Ghosts {
         let n_fluid = points.len();
         for i in 0..n_fluid {
             for (w, wall) in self.walls.iter().enumerate() {
+                if self.lattice.is_some() && fixed::plane_of(&wall.shape).is_some() {
+                    continue;
+                }
                 let shape = &wall.shape;
                 // A circle sees the particle's periodic image nearest its centre; the mirror
                 // goes back into the box.
@@ -152,6 +174,42 @@ impl Ghosts {
                 }
             }
         }
+        if let Some(spacing) = self.lattice {
+            self.build_fixed(reach, spacing, moving, points);
+        }
+    }
+
+    /// The fixed ghosts of every plane wall ([`fixed`]), appended after the mirrors.
+    fn build_fixed(&mut self, reach: f64, spacing: f64, moving: bool, points: &mut Vec<Vec2>) {
+        let n_fluid = points.len() - self.parent.len();
+        let mut near = std::mem::take(&mut self.near);
+        let mut found = std::mem::take(&mut self.lattice_ghosts);
+        for (w, wall) in self.walls.iter().enumerate() {
+            let Some(plane) = fixed::plane_of(&wall.shape) else {
+                continue;
+            };
+            let lattice = fixed::Lattice {
+                plane,
+                spacing,
+                reach,
+                domain: self.domain.as_ref(),
+            };
+            let normal = wall.shape.normal(&Vec2::zeros());
+            found.clear();
+            lattice.ghosts(&points[..n_fluid], &mut near, &mut found);
+            for g in &found {
+                self.volume.push(1.0);
+                self.normal.push(normal);
+                if moving {
+                    self.offset.push(wall.condition.velocity_offset(g.position));
+                }
+                points.push(g.position);
+                self.parent.push(g.parent);
+                self.wall.push(w as u16);
+            }
+        }
+        self.near = near;
+        self.lattice_ghosts = found;
     }
 
     /// Volumes of all points relative to a fluid particle's (1 for fluid particles).

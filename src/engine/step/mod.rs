@@ -131,7 +131,8 @@ impl Simulation {
             scheme.wall_conformation,
             &mut walls,
         );
-        let ghosts = Ghosts::new(walls);
+        let mut ghosts = Ghosts::new(walls);
+        ghosts.set_model(scheme.wall_model, setup.spacing);
         // Free surfaces take the positive divergence form of (20) with L = I.
         let form = if setup.free_surface {
             DivergenceForm::Positive

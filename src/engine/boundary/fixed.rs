@@ -1,0 +1,179 @@
+//! Fixed ghost particles behind plane walls (Marrone et al. 2011; the image particles of
+//! Fang et al. 2006): a lattice of spacing δr fixed in space, each lattice point taking the
+//! values of the fluid particle nearest its mirror point inside the fluid (zeroth-order
+//! interpolation), by the wall's condition as a mirror would.
+//!
+//! Why: a moving mirror stands at 2d from its parent, so as a particle reaches the wall
+//! (d → 0) the pair's kernel gradient, and with it the wall's pressure repulsion and the
+//! compression of the continuity equation, vanish; a particle pushed by the fluid above
+//! creeps through the wall. A fixed lattice keeps a row of points δr/2 behind the wall
+//! whatever the fluid does.
+
+use super::{Plane, Shape};
+use crate::engine::math::Vec2;
+use crate::engine::neighbours::Domain;
+use serde::{Deserialize, Serialize};
+
+/// How the particles behind a wall are placed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum WallModel {
+    /// Every fluid particle within a kernel support of a wall is mirrored across it
+    /// (King & Lind §III C).
+    #[default]
+    Mirror,
+    /// Plane walls: ghosts on a fixed lattice (module docs). Circles keep mirrors.
+    FixedGhost,
+}
+
+/// A near-wall fluid particle: tangential coordinate, distance from the wall, index.
+pub type NearParticle = (f64, f64, u32);
+
+/// One fixed ghost of a plane wall: its position and its parent.
+#[derive(Clone, Copy, Debug)]
+pub struct FixedGhost {
+    pub position: Vec2,
+    pub parent: u32,
+}
+
+/// The lattice of a plane: columns at (k + ½)δr along the wall from the box's corner, rows at
+/// (m + ½)δr behind it, m while (m + ½)δr < `reach`.
+pub struct Lattice<'a> {
+    pub plane: &'a Plane,
+    pub spacing: f64,
+    pub reach: f64,
+    pub domain: Option<&'a Domain>,
+}
+
+impl Lattice<'_> {
+    /// Appends to `out` every lattice point with a fluid particle within δr of its mirror
+    /// point. `near` is scratch (reused between steps).
+    pub fn ghosts(&self, points: &[Vec2], near: &mut Vec<NearParticle>, out: &mut Vec<FixedGhost>) {
+        let (plane, dr) = (self.plane, self.spacing);
+        let t = 1 - plane.axis;
+        near.clear();
+        for (i, p) in points.iter().enumerate() {
+            let d = plane.distance(p);
+            if d < self.reach + dr {
+                near.push((p[t], d, i as u32));
+            }
+        }
+        if near.is_empty() {
+            return;
+        }
+        near.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.2.cmp(&b.2)));
+        let origin = self.domain.map_or(0.0, |d| d.min[t]);
+        let period = self.domain.and_then(|d| d.periodic[t].then(|| d.size()[t]));
+        let (first, last) = match period {
+            Some(l) => (0, (l / dr).round() as i64 - 1),
+            None => (
+                ((near[0].0 - self.reach - origin) / dr).floor() as i64,
+                ((near[near.len() - 1].0 + self.reach - origin) / dr).ceil() as i64,
+            ),
+        };
+        let rows = (self.reach / dr - 0.5).ceil().max(1.0) as usize;
+        for k in first..=last {
+            let s = origin + (k as f64 + 0.5) * dr;
+            for m in 0..rows {
+                let d = (m as f64 + 0.5) * dr;
+                if let Some(parent) = nearest(near, (s, d), dr, period) {
+                    let mut position = Vec2::zeros();
+                    position[t] = s;
+                    position[plane.axis] = plane.position - plane.fluid_side * d;
+                    out.push(FixedGhost { position, parent });
+                }
+            }
+        }
+    }
+}
+
+/// The particle of `near` (sorted by s) nearest (s, d) within `radius`, seen across a
+/// periodic tangential axis of length `period`.
+fn nearest(
+    near: &[NearParticle],
+    (s, d): (f64, f64),
+    radius: f64,
+    period: Option<f64>,
+) -> Option<u32> {
+    let mut best: Option<(f64, u32)> = None;
+    let (shifts, count) = match period {
+        Some(l) => ([0.0, -l, l], 3),
+        None => ([0.0; 3], 1),
+    };
+    for shift in &shifts[..count] {
+        let centre = s + shift;
+        let start = near.partition_point(|q| q.0 < centre - radius);
+        for q in near[start..].iter().take_while(|q| q.0 <= centre + radius) {
+            let r2 = (q.0 - centre).powi(2) + (q.1 - d).powi(2);
+            if r2 <= radius * radius && best.is_none_or(|(b, _)| r2 < b) {
+                best = Some((r2, q.2));
+            }
+        }
+    }
+    best.map(|(_, i)| i)
+}
+
+/// The plane of a wall the fixed lattice applies to (None: a circle, which keeps mirrors).
+pub fn plane_of(shape: &Shape) -> Option<&Plane> {
+    match shape {
+        Shape::Plane(p) => Some(p),
+        Shape::Circle(_) => None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lattice_points_take_the_particle_nearest_their_mirror_point() {
+        let plane = Plane::floor();
+        let dr = 0.1;
+        // Two columns of fluid at x = 0.05, 0.15, rows y = 0.05, 0.15, plus one particle
+        // drifted to the wall at x = 0.25.
+        let mut pts = Vec::new();
+        for x in [0.05, 0.15] {
+            for y in [0.05, 0.15] {
+                pts.push(Vec2::new(x, y));
+            }
+        }
+        pts.push(Vec2::new(0.25, 0.001));
+        let domain = Domain {
+            min: Vec2::new(0.0, -1.0),
+            max: Vec2::new(0.3, 1.0),
+            periodic: [false, false],
+        };
+        let lattice = Lattice {
+            plane: &plane,
+            spacing: dr,
+            reach: 0.2,
+            domain: Some(&domain),
+        };
+        let mut got = Vec::new();
+        lattice.ghosts(&pts, &mut Vec::new(), &mut got);
+        // Column x = 0.05, row y = −0.05 takes particle 0 (at its mirror point (0.05, 0.05)).
+        let g = got
+            .iter()
+            .find(|g| (g.position - Vec2::new(0.05, -0.05)).norm() < 1e-12)
+            .unwrap();
+        assert_eq!(g.parent, 0);
+        // The particle at the wall still has a fixed ghost δr/2 below the wall beneath it:
+        // its own, whose mirror point (0.25, 0.05) is within δr of it.
+        let g = got
+            .iter()
+            .find(|g| (g.position - Vec2::new(0.25, -0.05)).norm() < 1e-12)
+            .unwrap();
+        assert_eq!(g.parent, 4);
+        // Every ghost stands behind the wall, on the lattice.
+        assert!(got.iter().all(|g| g.position.y < 0.0));
+        // Nothing beneath empty space (x = 0.35 has no fluid within δr of its mirror point).
+        assert!(got.iter().all(|g| g.position.x < 0.3));
+    }
+
+    #[test]
+    fn nearest_looks_across_a_periodic_seam() {
+        let near = vec![(0.01, 0.05, 7u32), (0.5, 0.05, 8)];
+        assert_eq!(nearest(&near, (0.99, 0.05), 0.1, Some(1.0)), Some(7));
+        assert_eq!(nearest(&near, (0.99, 0.05), 0.1, None), None);
+    }
+}
