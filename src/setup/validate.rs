@@ -267,8 +267,10 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
     let open = scene.has_free_surface();
     let method = method(s, scene, fluid)?;
     let weak = matches!(method, Method::WeaklyCompressible(_));
+    // 0 restores the stability rules (so `--set` can undo a case file's fixed step).
     let time_step = s
         .time_step
+        .filter(|&dt| dt != 0.0)
         .map(|dt| positive("scheme.time_step", dt))
         .transpose()?;
     if open && s.frame == Frame::Eulerian {
