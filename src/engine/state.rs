@@ -48,4 +48,6 @@ pub struct StepReport {
     pub viscous_iterations: usize,
     /// The largest |ρ/ρ0 − 1| after the step (0 for the projection, whose particles keep ρ0).
     pub density_deviation: f64,
+    /// The speed of sound of the step (0 for the projection).
+    pub sound_speed: f64,
 }

@@ -188,6 +188,9 @@ pub struct SchemeSpec {
     pub artificial_stress_exponent: i32,
     /// WCSPH: δ of the δ-SPH density diffusion (0 = off; Antuono et al. 2010: 0.1).
     pub density_diffusion: f64,
+    /// WCSPH: K of ρ0c² ≥ K τ_max, the speed of sound following the stretched polymer
+    /// (0 = c fixed at `sound_speed`).
+    pub sound_speed_stress_factor: f64,
     /// A fixed time step instead of the stability rules (either method).
     pub time_step: Option<f64>,
     pub frame: Frame,
@@ -195,9 +198,10 @@ pub struct SchemeSpec {
     /// The velocity gradient of the constitutive update: `auto`, `solenoidal`,
     /// `wall-normal-even` or `raw` (see `engine::kinematics`).
     pub constitutive_gradient: GradientChoice,
-    /// Fickian shifting (default: on for `isph`, off for `wcsph`, whose classic form has
-    /// none; with it, the density is carried by the ALE term u_ps·∇ρ).
-    pub shifting: Option<bool>,
+    /// Fickian shifting (with `wcsph` the density is then carried by the ALE term u_ps·∇ρ).
+    /// On by default for both methods: without it the weakly compressible channel breaks
+    /// down by t ≈ 1 (README); Fang et al.'s drop, which had none, sets it off.
+    pub shifting: bool,
     /// α_V of the EVSS splitting, eqs. (6)–(8).
     pub evss_alpha: f64,
     /// The factor 0.2 of the time-step rule (28).
@@ -243,11 +247,12 @@ impl Default for SchemeSpec {
             artificial_stress: 0.0,
             artificial_stress_exponent: 4,
             density_diffusion: 0.0,
+            sound_speed_stress_factor: 0.0,
             time_step: None,
             frame: Frame::Lagrangian,
             conformation: ConformationScheme::Log,
             constitutive_gradient: GradientChoice::Auto,
-            shifting: None,
+            shifting: true,
             evss_alpha: 0.0,
             dt_factor: 0.2,
             viscosity: Viscosity::Explicit,

@@ -266,7 +266,6 @@ fn generalised_newtonian(
 fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, FieldError> {
     let open = scene.has_free_surface();
     let method = method(s, scene, fluid)?;
-    let weak = matches!(method, Method::WeaklyCompressible(_));
     // 0 restores the stability rules (so `--set` can undo a case file's fixed step).
     let time_step = s
         .time_step
@@ -315,7 +314,7 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
             GradientChoice::Raw => ConstitutiveGradient::Raw,
             GradientChoice::WallNormalEven => ConstitutiveGradient::WallNormalEven,
         },
-        shifting: s.shifting.unwrap_or(!weak),
+        shifting: s.shifting,
         evss_alpha,
         dt_factor: s.dt_factor,
         viscosity: s.viscosity,
@@ -430,6 +429,12 @@ fn method(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Method, Fi
         ));
     }
     let delta = in_range("scheme.density_diffusion", s.density_diffusion, 0.0, 1.0)?;
+    let stress_factor = in_range(
+        "scheme.sound_speed_stress_factor",
+        s.sound_speed_stress_factor,
+        0.0,
+        1e3,
+    )?;
     Ok(Method::WeaklyCompressible(WeaklyCompressible {
         sound_speed,
         viscosity: ArtificialViscosity { alpha, beta },
@@ -438,6 +443,7 @@ fn method(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Method, Fi
             exponent: s.artificial_stress_exponent,
         },
         density_diffusion: delta,
+        stress_factor,
     }))
 }
 

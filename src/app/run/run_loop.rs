@@ -374,6 +374,7 @@ impl<'a> Run<'a> {
                     / totals.steps.max(1) as f64,
             },
             max_density_deviation: totals.max_density_deviation,
+            max_sound_speed: totals.max_sound_speed,
             neighbour_pairs_per_particle: sim.neighbour_pairs() as f64 / particles as f64,
             probes,
             version: env!("CARGO_PKG_VERSION"),

@@ -58,6 +58,9 @@ pub struct Summary {
     /// The largest |ρ/ρ0 − 1| after any step: the weakly compressible scheme's compression
     /// (0 for the projection).
     pub max_density_deviation: f64,
+    /// The largest speed of sound of a step (WCSPH, which raises it with the polymer stress
+    /// by `scheme.sound_speed_stress_factor`; 0 for the projection).
+    pub max_sound_speed: f64,
     pub neighbour_pairs_per_particle: f64,
     /// What the probes report, by name: `steady` (channels with a cylinder: steady state,
     /// time averages, drag and centre-line values), `drop` (the largest width, the final
@@ -99,6 +102,9 @@ pub struct PpeWindow {
     /// Steps with a PPE solve (all of them for the projection, none for WCSPH).
     #[serde(default)]
     pub solves: u64,
+    /// The largest speed of sound of a step (WCSPH; 0 for the projection).
+    #[serde(default)]
+    pub max_sound_speed: f64,
 }
 
 impl PpeWindow {
@@ -107,6 +113,7 @@ impl PpeWindow {
         self.viscous_iterations += step.viscous_iterations as u64;
         self.steps += 1;
         self.max_density_deviation = self.max_density_deviation.max(step.density_deviation);
+        self.max_sound_speed = self.max_sound_speed.max(step.sound_speed);
         let Some(r) = &step.ppe else {
             return;
         };

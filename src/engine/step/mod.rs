@@ -213,11 +213,21 @@ impl Simulation {
     /// for explicit viscosity, the advective limit for implicit, and in both the elastic limit
     /// of the stretched polymer.
     pub fn stable_dt(&self) -> f64 {
-        self.step_limit().0
+        self.step_limit(self.max_polymer_stress()).0
+    }
+
+    /// The largest principal polymer stress over the particles (0 without polymer).
+    fn max_polymer_stress(&self) -> f64 {
+        let fluid = &self.fluid;
+        self.state
+            .conformation
+            .par_iter()
+            .map(|a| fluid.polymer_stress(a).max_eigenvalue())
+            .reduce(|| 0.0, f64::max)
     }
 
     /// The stable step and the elastic wave speed it was limited by.
-    fn step_limit(&self) -> (f64, f64) {
+    fn step_limit(&self, max_polymer_stress: f64) -> (f64, f64) {
         let s = &self.state;
         let max_speed = s
             .velocity
@@ -225,11 +235,6 @@ impl Simulation {
             .map(|u| u.norm())
             .reduce(|| 0.0, f64::max);
         let fluid = &self.fluid;
-        let max_polymer_stress = s
-            .conformation
-            .par_iter()
-            .map(|a| fluid.polymer_stress(a).max_eigenvalue())
-            .reduce(|| 0.0, f64::max);
         let inputs = DtInputs {
             h: self.kernel.h(),
             max_speed,
@@ -300,7 +305,11 @@ impl Simulation {
         if self.stages.reordering.due(self.state.steps) {
             self.reorder();
         }
-        let (stable, wave_speed) = self.step_limit();
+        let max_polymer_stress = self.max_polymer_stress();
+        if let Some(weak) = self.stages.weak.as_mut() {
+            weak.follow_polymer(max_polymer_stress);
+        }
+        let (stable, wave_speed) = self.step_limit(max_polymer_stress);
         let dt = stable.min(dt_max);
         self.intermediate_positions(dt);
         if !self.stages.bodies.is_empty() {
@@ -342,6 +351,7 @@ impl Simulation {
             elastic_courant: dt * wave_speed / self.kernel.h(),
             viscous_iterations,
             density_deviation,
+            sound_speed: self.stages.weak.as_ref().map_or(0.0, |w| w.sound_speed()),
         })
     }
 

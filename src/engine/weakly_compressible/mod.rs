@@ -50,6 +50,9 @@ pub struct WeaklyCompressible {
     pub stress: ArtificialStress,
     /// δ of δ-SPH (0 = off; Antuono et al. take 0.1).
     pub density_diffusion: f64,
+    /// K of ρ0c² ≥ K τ_max: the speed of sound rises with the largest principal polymer
+    /// stress (0 = c fixed). See [`WeakStage::follow_polymer`].
+    pub stress_factor: f64,
 }
 
 /// The speed of sound for a Mach number: the largest of the scales Morris, Fox & Zhu (1997)
@@ -175,7 +178,33 @@ impl WeakStage {
 
     /// The acoustic step limit C_a h/(c + |u|_max).
     pub fn dt_limit(&self, h: f64, max_speed: f64) -> f64 {
-        ACOUSTIC_COURANT * h / (self.settings.sound_speed + max_speed)
+        ACOUSTIC_COURANT * h / (self.eos.sound_speed + max_speed)
+    }
+
+    /// The speed of sound of this step.
+    pub fn sound_speed(&self) -> f64 {
+        self.eos.sound_speed
+    }
+
+    /// Raises c to √(K τ_max/ρ0) when the polymer is stretched beyond ρ0c²/K (never below
+    /// the set speed). Why: in the symmetric momentum form a polymer tension τ_xx acts like a
+    /// negative pressure, and the particle arrangement is stable only while the equation of
+    /// state's stiffness ρ0c² dominates it. Measured (start-up Poiseuille, Re = 1, β = 0.1,
+    /// c = 28.3): Wi = 16 and 64 broke down, velocity first, once τ_xx ≈ 0.33ρ0c² near the
+    /// walls, with det A ≥ 1 and the elastic Courant number 0.13; with c doubled Wi = 16 ran
+    /// to t = 15. Following τ_max helps but does not cure (H/δr = 15, t = 15): K = 6 moved the
+    /// breakdowns at Wi = 16 / 64 from t = 4.8 / 5.5 to 11.4 / 8.5, K = 12 ran Wi = 16 through
+    /// and Wi = 64 to 11.7, where c chased a stress that was already running away; so it is
+    /// off by default (the classic fixed c). The pressure is the evolved variable, so c may
+    /// change between steps (an artificial compressibility).
+    pub fn follow_polymer(&mut self, max_polymer_stress: f64) {
+        let k = self.settings.stress_factor;
+        let base = self.settings.sound_speed;
+        self.eos.sound_speed = if k > 0.0 && max_polymer_stress > 0.0 {
+            base.max((k * max_polymer_stress / self.eos.rho0).sqrt())
+        } else {
+            base
+        };
     }
 
     /// The accelerations of the pressure, polymer stress, artificial viscosity and stress in
@@ -189,7 +218,7 @@ impl WeakStage {
         let (p_ext, tau_ext, r_ext) = (&self.pressure_ext, &self.stress_ext, &self.artificial_ext);
         let eos = self.eos;
         let mass = eos.rho0 * sums.dv;
-        let (c, h, w_dr) = (self.settings.sound_speed, m.kernel.h(), self.w_spacing);
+        let (c, h, w_dr) = (eos.sound_speed, m.kernel.h(), self.w_spacing);
         let (av, stress) = (self.settings.viscosity, self.settings.stress);
         self.acceleration
             .par_iter_mut()
@@ -269,7 +298,7 @@ impl WeakStage {
         ghosts.extend_velocity(velocity, &mut self.velocity_ext);
         ghosts.extend_pressure(pressure, &mut self.pressure_ext);
         let delta = self.settings.density_diffusion;
-        let c = self.settings.sound_speed;
+        let c = self.eos.sound_speed;
         self.gradient_ext.clear();
         if delta > 0.0 || shift.is_some() {
             self.gradient_ext.resize(n, Vec2::zeros());
