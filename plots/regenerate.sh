@@ -80,9 +80,21 @@ done
 # Normal-stress Dirichlet pressure (35a) against p = 0, and the Newtonian drop, at W/dr = 80.
 $R run $D --no-snapshots --set scene.resolution=80 --set scheme.free_surface_pressure=zero --out $O/p-zero80
 $R run $D --no-snapshots --set scene.resolution=80 $N --out $O/newtonian80
-# Fang et al.'s drop (D/dr = 100), Oldroyd-B and Newtonian.
-$R run cases/drop-fang.toml --no-snapshots --out plots/drop-fang/oldroyd-b
-$R run cases/drop-fang.toml --no-snapshots $N --out plots/drop-fang/newtonian
+# Fang et al.'s drop (D/dr = 100), Oldroyd-B and Newtonian, with the projection ...
+F=cases/drop-fang.toml
+FI="--set scheme.method=isph --set scheme.shifting=true --set scheme.conformation=log
+  --set scheme.viscosity=implicit --set scheme.time_step=0 --set scheme.wall_model=mirror"
+$R run $F --no-snapshots $FI --out plots/drop-fang/oldroyd-b
+$R run $F --no-snapshots $FI $N --out plots/drop-fang/newtonian
+# ... and with their weakly compressible scheme as the case file ships it (eps = 0.5, fixed
+# ghosts, their step), then eps = 0.2 and 0, the mirror wall, and the Newtonian drop (eps = 0.2,
+# our step: theirs exceeds the explicit viscous limit at eta = 4 Pa s).
+$R run $F --no-snapshots --out plots/drop-fang/wcsph-oldroyd-b
+$R run $F --no-snapshots --set scheme.artificial_stress=0.2 --out plots/drop-fang/wcsph-eps0.2 || true
+$R run $F --no-snapshots --set scheme.artificial_stress=0 --out plots/drop-fang/wcsph-eps0 || true
+$R run $F --no-snapshots --set scheme.wall_model=mirror --out plots/drop-fang/wcsph-mirror || true
+$R run $F --no-snapshots $N --set scheme.artificial_stress=0.2 --set scheme.time_step=0 \
+  --out plots/drop-fang/wcsph-newtonian
 $R compare-drops $O/res20 $O/res40 $O/res80 $O/res120 --labels 'W/dr = 20,40,80,120' \
   --title 'Oldroyd-B drop, De = 1: resolution' --out $O/resolution.png
 $R compare-drops $O/de40/newtonian $O/res40 $O/de40/De_5 $O/de40/De_20 $O/de40/De_100 $O/de40/De_1000 \
@@ -92,6 +104,11 @@ $R compare-drops $O/res80 $O/p-zero80 $O/newtonian80 --labels 'normal stress (35
   --title 'Free-surface pressure, W/dr = 80' --out $O/surface_pressure.png
 $R compare-drops plots/drop-fang/newtonian plots/drop-fang/oldroyd-b --labels 'Newtonian,Oldroyd-B' \
   --title "Fang et al.'s drop (Re = 5, We = 1)" --out plots/drop-fang/width.png
+G=plots/drop-fang
+$R compare-drops $G/oldroyd-b $G/wcsph-oldroyd-b $G/wcsph-eps0.2 $G/wcsph-eps0 $G/wcsph-mirror \
+  $G/newtonian $G/wcsph-newtonian --labels "ISPH,WCSPH eps = 0.5,WCSPH eps = 0.2,WCSPH eps = 0,\
+WCSPH eps = 0.5 mirror wall,ISPH Newtonian,WCSPH Newtonian eps = 0.2" \
+  --title "Fang et al.'s drop, D/dr = 100: projection and WCSPH" --out $G/wcsph_vs_isph.png
 # Jets (Section IV D): Oldroyd-B at Wi = 1/3 ... 20/3 (lambda = Wi D/U0), the FENE models and
 # Giesekus at Wi = 10/3.
 J=cases/jet-buckling.toml

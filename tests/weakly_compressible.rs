@@ -101,5 +101,13 @@ fn wcsph_keys_are_validated() {
     assert!(bad(&["scheme.artificial_stress=2"]).contains("scheme.artificial_stress"));
     assert!(bad(&["scheme.sound_speed=-1"]).contains("scheme.sound_speed"));
     assert!(bad(&["scheme.density_diffusion=-0.1"]).contains("scheme.density_diffusion"));
-    assert!(bad(&["scheme.time_step=0"]).contains("scheme.time_step"));
+    assert!(bad(&["scheme.time_step=-1e-5"]).contains("scheme.time_step"));
+    assert!(
+        bad(&["scheme.sound_speed_stress_factor=-1"]).contains("scheme.sound_speed_stress_factor")
+    );
+    assert!(bad(&["scheme.wall_model=\"fixed\""]).contains("wall_model"));
+    // 0 restores the stability rules (a case file's fixed step undone by --set).
+    let o = vec!["scheme.time_step=0".to_string()];
+    let case = case::parse(common::POISEUILLE, "poiseuille.toml", "p", &o).unwrap();
+    assert_eq!(case.scheme.time_step, None);
 }
