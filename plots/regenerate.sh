@@ -22,6 +22,15 @@ $R run $C --out plots/poiseuille
 $R study convergence $C --resolutions 15,30,60 --frames lagrangian,eulerian $I --out plots/convergence
 $R study convergence $C --resolutions 15,30,60 --frames lagrangian,eulerian $I \
   --set fluid.model=ucm --set fluid.beta=0 --set scheme.evss_alpha=0.01 --out plots/convergence-ucm
+# The weakly compressible baseline beside the projection (one thread per run, as measured).
+RAYON_NUM_THREADS=1 $R study speed-accuracy $C --set run.end_time=5 --vary scheme.method=isph,wcsph \
+  --resolutions 15,30,60 --out plots/wcsph/sa-re1
+RAYON_NUM_THREADS=1 $R study speed-accuracy cases/poiseuille-re0.01.toml --set run.end_time=5 \
+  --vary scheme.method=isph,wcsph --resolutions 15,30 --out plots/wcsph/sa-re0.01
+$R study stability $C --wi 1,4,16,64 --variant scheme.method=isph --variant scheme.method=wcsph \
+  --variant 'scheme.method=wcsph;scheme.density_diffusion=0.1' \
+  --variant 'scheme.method=wcsph;scheme.conformation=direct;scheme.artificial_stress=0.5' \
+  --out plots/wcsph/stability
 # Where methods fail (Section IV A 3): H/dr = 30, Re = 1, beta = 0.1.
 $R study stability $C --wi 0.1,1,4,8,16,32,64,85,128 \
   --vary scheme.conformation=log,direct --vary scheme.frame=lagrangian,eulerian $I --out plots/stability

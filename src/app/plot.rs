@@ -93,13 +93,15 @@ pub struct Chart {
 }
 
 /// A palette that survives greyscale printing reasonably.
-pub const PALETTE: [RGBColor; 6] = [
+pub const PALETTE: [RGBColor; 8] = [
     RGBColor(0, 0, 0),
     RGBColor(200, 30, 30),
     RGBColor(30, 90, 200),
     RGBColor(20, 150, 60),
     RGBColor(200, 120, 0),
     RGBColor(130, 40, 160),
+    RGBColor(0, 160, 170),
+    RGBColor(140, 140, 140),
 ];
 
 fn register_fonts() {
