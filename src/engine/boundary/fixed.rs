@@ -1,7 +1,9 @@
-//! Fixed ghost particles behind plane walls (Marrone et al. 2011; the image particles of
-//! Fang et al. 2006): a lattice of spacing δr fixed in space, each lattice point taking the
-//! values of the fluid particle nearest its mirror point inside the fluid (zeroth-order
-//! interpolation), by the wall's condition as a mirror would.
+//! Fixed ghost particles behind walls (Marrone et al. 2011; the image particles of Fang et
+//! al. 2006): a lattice of spacing δr fixed to the wall — rows behind a plane, rings inside a
+//! circle — each point taking the values of the fluid particle nearest its mirror point
+//! inside the fluid (zeroth-order interpolation), by the wall's condition as a mirror would.
+//! Unlike a mirror inside a convex surface, a ring point carries the fluid's own volume δV:
+//! the rings are spaced δr apart, so no volume ratio is needed.
 //!
 //! Why: a moving mirror stands at 2d from its parent, so as a particle reaches the wall
 //! (d → 0) the pair's kernel gradient, and with it the wall's pressure repulsion and the
@@ -9,7 +11,7 @@
 //! creeps through the wall. A fixed lattice keeps a row of points δr/2 behind the wall
 //! whatever the fluid does.
 
-use super::{Plane, Shape};
+use super::{Circle, Plane, Shape};
 use crate::engine::math::Vec2;
 use crate::engine::neighbours::Domain;
 use serde::{Deserialize, Serialize};
@@ -22,7 +24,7 @@ pub enum WallModel {
     /// (King & Lind §III C).
     #[default]
     Mirror,
-    /// Plane walls: ghosts on a fixed lattice (module docs). Circles keep mirrors.
+    /// Ghosts on a lattice fixed to the wall (module docs).
     FixedGhost,
 }
 
@@ -34,6 +36,8 @@ pub type NearParticle = (f64, f64, u32);
 pub struct FixedGhost {
     pub position: Vec2,
     pub parent: u32,
+    /// The wall's unit normal at the point.
+    pub normal: Vec2,
 }
 
 /// The lattice of a plane: columns at (k + ½)δr along the wall from the box's corner, rows at
@@ -80,9 +84,68 @@ impl Lattice<'_> {
                     let mut position = Vec2::zeros();
                     position[t] = s;
                     position[plane.axis] = plane.position - plane.fluid_side * d;
-                    out.push(FixedGhost { position, parent });
+                    out.push(FixedGhost {
+                        position,
+                        parent,
+                        normal: Shape::Plane(*plane).normal(&position),
+                    });
                 }
             }
+        }
+    }
+}
+
+/// The rings of a circle: radii R − (m + ½)δr while (m + ½)δr < `reach` (and the radius stays
+/// above δr/2), each with round(2πr/δr) points at equal angles from the x axis.
+pub struct Rings<'a> {
+    pub circle: &'a Circle,
+    pub spacing: f64,
+    pub reach: f64,
+    pub domain: Option<&'a Domain>,
+}
+
+impl Rings<'_> {
+    /// Appends to `out` every ring point with a fluid particle within δr of its mirror point
+    /// (positions wrapped into the box). `near` is scratch: (x, y) relative to the centre.
+    pub fn ghosts(&self, points: &[Vec2], near: &mut Vec<NearParticle>, out: &mut Vec<FixedGhost>) {
+        let (c, dr) = (self.circle, self.spacing);
+        near.clear();
+        for (i, p) in points.iter().enumerate() {
+            let r = self
+                .domain
+                .map_or(p - c.centre, |d| d.min_image(p - c.centre));
+            if r.norm() - c.radius < self.reach + dr {
+                near.push((r.x, r.y, i as u32));
+            }
+        }
+        if near.is_empty() {
+            return;
+        }
+        let mut m = 0;
+        while (m as f64 + 0.5) * dr < self.reach && c.radius - (m as f64 + 0.5) * dr > 0.5 * dr {
+            let radius = c.radius - (m as f64 + 0.5) * dr;
+            let image = c.radius + (m as f64 + 0.5) * dr;
+            let count = (std::f64::consts::TAU * radius / dr).round().max(1.0) as usize;
+            for k in 0..count {
+                let angle = std::f64::consts::TAU * k as f64 / count as f64;
+                let dir = Vec2::new(angle.cos(), angle.sin());
+                let target = dir * image;
+                let best = near
+                    .iter()
+                    .map(|q| ((q.0 - target.x).powi(2) + (q.1 - target.y).powi(2), q.2))
+                    .filter(|(r2, _)| *r2 <= dr * dr)
+                    .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+                if let Some((_, parent)) = best {
+                    let q = c.centre + dir * radius;
+                    let position = self.domain.map_or(q, |d| d.wrap(q));
+                    out.push(FixedGhost {
+                        position,
+                        parent,
+                        normal: dir,
+                    });
+                }
+            }
+            m += 1;
         }
     }
 }
@@ -113,11 +176,29 @@ fn nearest(
     best.map(|(_, i)| i)
 }
 
-/// The plane of a wall the fixed lattice applies to (None: a circle, which keeps mirrors).
-pub fn plane_of(shape: &Shape) -> Option<&Plane> {
+/// Appends the fixed ghosts of one wall of `shape` (module docs) to `out`.
+pub fn ghosts_of(
+    shape: &Shape,
+    (spacing, reach, domain): (f64, f64, Option<&Domain>),
+    points: &[Vec2],
+    near: &mut Vec<NearParticle>,
+    out: &mut Vec<FixedGhost>,
+) {
     match shape {
-        Shape::Plane(p) => Some(p),
-        Shape::Circle(_) => None,
+        Shape::Plane(plane) => Lattice {
+            plane,
+            spacing,
+            reach,
+            domain,
+        }
+        .ghosts(points, near, out),
+        Shape::Circle(circle) => Rings {
+            circle,
+            spacing,
+            reach,
+            domain,
+        }
+        .ghosts(points, near, out),
     }
 }
 
@@ -168,6 +249,40 @@ mod tests {
         assert!(got.iter().all(|g| g.position.y < 0.0));
         // Nothing beneath empty space (x = 0.35 has no fluid within δr of its mirror point).
         assert!(got.iter().all(|g| g.position.x < 0.3));
+    }
+
+    #[test]
+    fn ring_points_sit_inside_the_circle_and_take_the_particle_at_their_mirror_point() {
+        let circle = Circle {
+            centre: Vec2::new(0.0, 0.0),
+            radius: 1.0,
+        };
+        let dr = 0.1;
+        // One particle just outside the surface on the x axis, at the mirror point of the
+        // first ring's point at angle 0 (radius 0.95 ↔ 1.05).
+        let pts = vec![Vec2::new(1.05, 0.0)];
+        let rings = Rings {
+            circle: &circle,
+            spacing: dr,
+            reach: 0.35,
+            domain: None,
+        };
+        let mut got = Vec::new();
+        rings.ghosts(&pts, &mut Vec::new(), &mut got);
+        let g = got
+            .iter()
+            .find(|g| (g.position - Vec2::new(0.95, 0.0)).norm() < 1e-12)
+            .expect("the first ring's point at angle 0");
+        assert_eq!(g.parent, 0);
+        // Every point is inside, on a ring δr/2, 3δr/2, ... below the surface, and near the
+        // particle's mirror point.
+        for g in &got {
+            let depth = circle.radius - g.position.norm();
+            assert!(
+                depth > 0.0 && ((depth / dr) - 0.5).fract().abs() < 1e-9,
+                "{depth}"
+            );
+        }
     }
 
     #[test]

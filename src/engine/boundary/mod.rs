@@ -85,7 +85,7 @@ pub struct Ghosts {
     pressure_sign: Vec<f64>,
     /// The box whose periodic axes circles are seen across (None: no periodic images).
     pub domain: Option<Domain>,
-    /// δr of the fixed ghost lattice behind plane walls (None: mirrors everywhere).
+    /// δr of the fixed ghost lattice behind every wall (None: mirrors).
     lattice: Option<f64>,
     /// Scratch of the fixed lattice's nearest-particle search and its ghosts.
     near: Vec<fixed::NearParticle>,
@@ -114,7 +114,7 @@ impl Ghosts {
         }
     }
 
-    /// Places the ghosts of plane walls on a fixed lattice of spacing `spacing`
+    /// Places the ghosts of every wall on a fixed lattice of spacing `spacing`
     /// ([`WallModel::FixedGhost`]); mirrors otherwise.
     pub fn set_model(&mut self, model: WallModel, spacing: f64) {
         self.lattice = (model == WallModel::FixedGhost).then_some(spacing);
@@ -129,9 +129,11 @@ impl Ghosts {
 
     /// Whether any ghost carries a volume other than its parent's.
     pub fn has_volume_ratios(&self) -> bool {
-        self.walls
-            .iter()
-            .any(|w| matches!(w.shape, Shape::Circle(_)))
+        self.lattice.is_none()
+            && self
+                .walls
+                .iter()
+                .any(|w| matches!(w.shape, Shape::Circle(_)))
     }
 
     pub fn len(&self) -> usize {
@@ -151,12 +153,13 @@ impl Ghosts {
         self.normal.clear();
         self.offset.clear();
         let moving = self.walls.iter().any(|w| w.condition.moves());
+        if let Some(spacing) = self.lattice {
+            self.build_fixed(reach, spacing, moving, points);
+            return;
+        }
         let n_fluid = points.len();
         for i in 0..n_fluid {
             for (w, wall) in self.walls.iter().enumerate() {
-                if self.lattice.is_some() && fixed::plane_of(&wall.shape).is_some() {
-                    continue;
-                }
                 let shape = &wall.shape;
                 // A circle sees the particle's periodic image nearest its centre; the mirror
                 // goes back into the box.
@@ -174,32 +177,26 @@ impl Ghosts {
                 }
             }
         }
-        if let Some(spacing) = self.lattice {
-            self.build_fixed(reach, spacing, moving, points);
-        }
     }
 
-    /// The fixed ghosts of every plane wall ([`fixed`]), appended after the mirrors.
+    /// The fixed ghosts of every wall ([`fixed`]).
     fn build_fixed(&mut self, reach: f64, spacing: f64, moving: bool, points: &mut Vec<Vec2>) {
         let n_fluid = points.len() - self.parent.len();
         let mut near = std::mem::take(&mut self.near);
         let mut found = std::mem::take(&mut self.lattice_ghosts);
         for (w, wall) in self.walls.iter().enumerate() {
-            let Some(plane) = fixed::plane_of(&wall.shape) else {
-                continue;
-            };
-            let lattice = fixed::Lattice {
-                plane,
-                spacing,
-                reach,
-                domain: self.domain.as_ref(),
-            };
-            let normal = wall.shape.normal(&Vec2::zeros());
             found.clear();
-            lattice.ghosts(&points[..n_fluid], &mut near, &mut found);
+            let lattice = (spacing, reach, self.domain.as_ref());
+            fixed::ghosts_of(
+                &wall.shape,
+                lattice,
+                &points[..n_fluid],
+                &mut near,
+                &mut found,
+            );
             for g in &found {
                 self.volume.push(1.0);
-                self.normal.push(normal);
+                self.normal.push(g.normal);
                 if moving {
                     self.offset.push(wall.condition.velocity_offset(g.position));
                 }
