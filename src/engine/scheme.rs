@@ -7,7 +7,7 @@ use crate::engine::frame::Frame;
 use crate::engine::free_surface::SurfacePressure;
 use crate::engine::kinematics::ConstitutiveGradient;
 use crate::engine::projection::Projection;
-use crate::engine::rheology::ConformationScheme;
+use crate::engine::rheology::{ConformationIntegrator, ConformationScheme};
 use crate::engine::viscosity::Viscosity;
 use crate::engine::weakly_compressible::WeaklyCompressible;
 use serde::{Deserialize, Serialize};
@@ -21,6 +21,8 @@ pub struct Scheme {
     pub time_step: Option<f64>,
     pub frame: Frame,
     pub conformation: ConformationScheme,
+    /// The conformation update's order in time.
+    pub conformation_integrator: ConformationIntegrator,
     /// The velocity gradient the constitutive update sees.
     pub constitutive_gradient: ConstitutiveGradient,
     /// Fickian shifting in the Lagrangian frame.

@@ -23,6 +23,9 @@ pub struct State {
     pub pressure: Vec<f64>,
     /// A^{n−1/2}; empty for a Newtonian fluid.
     pub conformation: Vec<Sym2>,
+    /// δt^{n−1}, the last step (0 before the first): A^{n−½} is the conformation at
+    /// t^n − δt^{n−1}/2, so step 3 advances it over (δt^{n−1} + δt^n)/2 to t^n + δt^n/2.
+    pub previous_dt: f64,
     /// u_ps of the last step.
     pub shift_velocity: Vec<Vec2>,
     /// The body force of the next step (see [`crate::engine::drive`]).

@@ -159,6 +159,17 @@ pub enum GradientChoice {
     Solenoidal,
 }
 
+/// The conformation update's order in time (`scheme.conformation_integrator`).
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum IntegratorChoice {
+    /// `strang` with Crank–Nicolson viscosity (a second-order step needs both), `euler`
+    /// otherwise (the paper's update, whose results are then unchanged).
+    Auto,
+    Euler,
+    Strang,
+}
+
 /// The time integrator (`scheme.method`).
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "kebab-case")]
@@ -195,6 +206,9 @@ pub struct SchemeSpec {
     pub time_step: Option<f64>,
     pub frame: Frame,
     pub conformation: ConformationScheme,
+    /// `auto`, `euler` (King & Lind, first order) or `strang` (second order) conformation
+    /// update.
+    pub conformation_integrator: IntegratorChoice,
     /// The velocity gradient of the constitutive update: `auto`, `solenoidal`,
     /// `wall-normal-even` or `raw` (see `engine::kinematics`).
     pub constitutive_gradient: GradientChoice,
@@ -251,6 +265,7 @@ impl Default for SchemeSpec {
             time_step: None,
             frame: Frame::Lagrangian,
             conformation: ConformationScheme::Log,
+            conformation_integrator: IntegratorChoice::Auto,
             constitutive_gradient: GradientChoice::Auto,
             shifting: true,
             evss_alpha: 0.0,

@@ -7,7 +7,6 @@ use crate::engine::rheology::models::Parameter;
 use crate::engine::rheology::{Fluid, LawEntry, Model, Solvent, ViscosityLaw, LAWS, MODELS};
 use crate::engine::scheme::{Method, PpeSettings, Scheme};
 use crate::engine::step::{Scales, Setup};
-use crate::engine::viscosity::Viscosity;
 use crate::setup::error::{field_err, in_range, positive, FieldError};
 use crate::setup::scenes::Scene;
 use std::sync::Arc;
@@ -67,12 +66,14 @@ impl Case {
     }
 }
 use crate::engine::kinematics::ConstitutiveGradient;
+use crate::engine::rheology::ConformationIntegrator;
+use crate::engine::viscosity::Viscosity;
 use crate::engine::weakly_compressible::{
     sound_speed_for, ArtificialStress, ArtificialViscosity, WeaklyCompressible,
 };
 use crate::setup::schema::{
-    CaseFile, FluidSpec, GradientChoice, MethodChoice, PreconditionerChoice, ProjectionChoice,
-    RunSpec, SchemeSpec, AMG_PARTICLES,
+    CaseFile, FluidSpec, GradientChoice, IntegratorChoice, MethodChoice, PreconditionerChoice,
+    ProjectionChoice, RunSpec, SchemeSpec, AMG_PARTICLES,
 };
 use rheosph_solver::Preconditioner;
 
@@ -305,6 +306,13 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
         time_step,
         frame: s.frame,
         conformation: s.conformation,
+        conformation_integrator: match s.conformation_integrator {
+            IntegratorChoice::Auto if s.viscosity == Viscosity::CrankNicolson => {
+                ConformationIntegrator::Strang
+            }
+            IntegratorChoice::Auto | IntegratorChoice::Euler => ConformationIntegrator::Euler,
+            IntegratorChoice::Strang => ConformationIntegrator::Strang,
+        },
         constitutive_gradient: match s.constitutive_gradient {
             // With free surfaces the traceless part is not taken: the coarse Oldroyd-B drop
             // (W/δr = 20, Re = 4, De = 1) lost a contact-line particle through the plate at
@@ -328,7 +336,7 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
             // (Re = 1, β = 0.1, H/δr = 30) and UCM (α_V = 0.01) from Wi = 4, both at
             // δt c/h ≤ 1.9, where the standard one runs through. Discs are bodies too.
             ProjectionChoice::Auto
-                if s.viscosity == Viscosity::Implicit
+                if s.viscosity.is_implicit()
                     && !open
                     && (scene.cylinder().is_some() || scene.discs() > 0) =>
             {

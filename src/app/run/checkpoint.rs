@@ -11,17 +11,18 @@
 //! and the neighbour lists, kernel sums, matrices and LU factors are recomputed from the
 //! positions (an Eulerian run rebuilds its fixed lists and refactorises once after a restore).
 //!
-//! The simulation's part, version 2, all numbers little-endian, f64 as raw IEEE bits:
+//! The simulation's part, version 3, all numbers little-endian, f64 as raw IEEE bits:
 //!
 //! ```text
 //!     magic      9 bytes  "RHEOSPHCK"
-//!     version    u32      1
+//!     version    u32      3
 //!     flags      u32      bit 0: conformation stored; bit 1: Eulerian frame
 //!     particles  u64      n
 //!     spacing    f64      δr
 //!     time       f64
 //!     steps      u64
 //!     body force f64, f64   (the drive's force of the next step)
+//!     previous δt f64       (the last step, which places A^{n−½} in time)
 //!     position        n × (x, y)
 //!     velocity        n × (x, y)
 //!     pressure        n × p
@@ -39,7 +40,7 @@ use std::path::Path;
 /// The first bytes of every checkpoint.
 pub const MAGIC: &[u8; 9] = b"RHEOSPHCK";
 /// The format version written by [`encode`].
-pub const VERSION: u32 = 2;
+pub const VERSION: u32 = 3;
 
 const FLAG_CONFORMATION: u32 = 1;
 const FLAG_EULERIAN: u32 = 2;
@@ -49,7 +50,7 @@ const FLAG_DISCS: u32 = 4;
 const KNOWN_FLAGS: u32 = FLAG_CONFORMATION | FLAG_EULERIAN | FLAG_DISCS;
 const VALUES_PER_DISC: usize = 7;
 /// Bytes before the particle arrays.
-const HEADER: usize = MAGIC.len() + 4 + 4 + 8 + 8 + 8 + 8 + 16;
+const HEADER: usize = MAGIC.len() + 4 + 4 + 8 + 8 + 8 + 8 + 16 + 8;
 const CHECKSUM: usize = 8;
 
 /// Why a checkpoint could not be restored.
@@ -116,6 +117,7 @@ pub fn encode(sim: &Simulation) -> Vec<u8> {
     let mut put = |v: f64| out.extend_from_slice(&v.to_le_bytes());
     put(s.body_force.x);
     put(s.body_force.y);
+    put(s.previous_dt);
     for field in [&s.position, &s.velocity] {
         field.iter().for_each(|u| {
             put(u.x);
@@ -265,6 +267,7 @@ pub fn restore(sim: &mut Simulation, bytes: &[u8]) -> Result<(), CheckpointError
     let time = r.f64();
     let steps = r.u64();
     let body_force = Vec2::new(r.f64(), r.f64());
+    let previous_dt = r.f64();
     let position = r.vec2s(n);
     let velocity = r.vec2s(n);
     let pressure = (0..n).map(|_| r.f64()).collect();
@@ -292,6 +295,7 @@ pub fn restore(sim: &mut Simulation, bytes: &[u8]) -> Result<(), CheckpointError
         velocity,
         pressure,
         conformation,
+        previous_dt,
         shift_velocity,
         body_force,
     });

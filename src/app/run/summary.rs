@@ -178,9 +178,11 @@ pub fn report_start(case: &Case, d: &Derived) {
         );
     }
     eprintln!(
-        "  frame {:?}, conformation {:?}, shifting {}, {} threads",
+        "  frame {:?}, conformation {:?} ({:?}), viscosity {:?}, shifting {}, {} threads",
         case.scheme.frame,
         case.scheme.conformation,
+        case.scheme.conformation_integrator,
+        case.scheme.viscosity,
         case.scheme.shifting,
         rayon::current_num_threads()
     );

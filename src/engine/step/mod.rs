@@ -158,7 +158,12 @@ impl Simulation {
                 )
             }),
             conformation: viscoelastic.then(|| {
-                ConformationStage::new(scheme.conformation, &fluid, scheme.evss_alpha, form)
+                ConformationStage::new(
+                    (scheme.conformation, scheme.conformation_integrator),
+                    &fluid,
+                    scheme.evss_alpha,
+                    form,
+                )
             }),
             viscous: scheme.viscosity.stage(),
             shear_viscosity: (!fluid.law.is_constant())
@@ -191,6 +196,7 @@ impl Simulation {
                 velocity: setup.velocity,
                 pressure: vec![0.0; n],
                 conformation,
+                previous_dt: 0.0,
                 shift_velocity: vec![Vec2::zeros(); n],
                 body_force: setup.body_force,
             },
@@ -340,6 +346,7 @@ impl Simulation {
         self.drive.update(&mut s.body_force, bulk, dt);
         self.state.time += dt;
         self.state.steps += 1;
+        self.state.previous_dt = dt;
         let t0 = std::time::Instant::now();
         let checked = self.check();
         self.timers
@@ -438,10 +445,12 @@ impl Simulation {
         });
     }
 
-    /// Step 3: the conformation to n + ½, polymer stress, EVSS Φ and its divergence.
+    /// Step 3: the conformation to n + ½, polymer stress, EVSS Φ and its divergence, over
+    /// the span [`ConformationStage::span`].
     fn constitutive_update(&mut self, dt: f64) {
         let (st, s, fluid) = (&mut self.stages, &mut self.state, &self.fluid);
         if let Some(stage) = st.conformation.as_mut() {
+            let dt = stage.span(s.previous_dt, dt);
             let inputs = (st.kinematics.constitutive(), &s.shift_velocity[..]);
             self.timers.time(Stage::Constitutive, || {
                 if st.weak.is_some() {
@@ -482,7 +491,7 @@ impl Simulation {
                 viscous: st
                     .viscous
                     .explicit_laplacian(hood.0, hood.1, &st.kinematics.velocity_ext, factor)
-                    .map(|laplacian| (laplacian, st.nu)),
+                    .map(|(laplacian, weight)| (laplacian, weight * st.nu)),
                 stress: st
                     .conformation
                     .as_ref()
