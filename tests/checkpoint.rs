@@ -105,6 +105,16 @@ fn implicit_viscosity_continues_bit_identically() {
     );
 }
 
+/// Crank–Nicolson with the Strang update spans (δt^{n−1} + δt^n)/2: the last step is state,
+/// and the checkpoint must carry it (the advective step varies here as the flow speeds up).
+#[test]
+fn crank_nicolson_continues_bit_identically() {
+    check_continuation(
+        &poiseuille(&["scene.resolution=12", "scheme.viscosity=crank-nicolson"]),
+        "crank-nicolson",
+    );
+}
+
 #[test]
 fn cylinder_array_continues_bit_identically() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/cylinder-array.toml");
