@@ -125,7 +125,9 @@ impl BiCgStabWorkspace {
             NullSpace::Constant => mean_abs_diagonal(a) / n as f64,
         };
         let op = Operator { a, rank_one };
-        self.choose_preconditioner(a, options, rank_one);
+        // The preconditioner is set up only when an iteration is needed: a warm start often
+        // meets the tolerance as it is, and an AMG hierarchy costs several solves to build.
+        let mut preconditioned = false;
         if options.null_space == NullSpace::Constant {
             remove_mean(x, &mut self.partials);
         }
@@ -133,7 +135,9 @@ impl BiCgStabWorkspace {
         let target = (options.relative_tolerance * b_norm).max(options.absolute_tolerance);
 
         let mut iterations = 0;
-        let mut converged = false;
+        // The true residual that met the target (the projected residual of the final x up
+        // to round-off: removing x's mean changes A x only by the rows' round-off sums).
+        let mut converged_residual = None;
         for restart in 0..=MAX_RESTARTS {
             self.true_residual(&op, b, x, rank_one);
             let mut residual = norm(&self.r, &mut self.partials);
@@ -145,19 +149,27 @@ impl BiCgStabWorkspace {
                 residual = norm(&self.r, &mut self.partials);
             }
             if residual <= target {
-                converged = true;
+                converged_residual = Some(residual);
                 break;
             }
             if iterations >= options.max_iterations {
                 break;
+            }
+            if !preconditioned {
+                self.choose_preconditioner(a, options, rank_one);
+                preconditioned = true;
             }
             iterations += self.iterate(&op, x, target, options.max_iterations - iterations);
         }
         if options.null_space == NullSpace::Constant {
             remove_mean(x, &mut self.partials);
         }
-        let relative_residual = self.projected_residual(a, b, x, options.null_space) / b_norm;
-        if self.amg.is_some() {
+        let relative_residual = match converged_residual {
+            Some(residual) => residual / b_norm,
+            None => self.projected_residual(a, b, x, options.null_space) / b_norm,
+        };
+        let converged = converged_residual.is_some();
+        if preconditioned && self.amg.is_some() {
             // A hierarchy that has lost its grip (iterations doubled since its first solve)
             // is rebuilt at the next solve.
             if self.amg_age == 0 {
@@ -309,20 +321,26 @@ fn apply_jacobi(inv_diag: &[f64], x: &[f64], y: &mut [f64]) {
 
 /// Inverse diagonal of `A + shift 1 1ᵀ`; rows with a zero diagonal are left unscaled.
 fn jacobi(a: &CsMat<f64>, shift: f64, inv_diag: &mut [f64]) {
-    inv_diag.iter_mut().for_each(|d| *d = 0.0);
-    for (value, (i, j)) in a.iter() {
-        if i == j {
-            inv_diag[i] += *value;
-        }
-    }
-    for d in inv_diag.iter_mut() {
-        let diag = *d + shift;
+    for_each_mut(inv_diag, |i, d| {
+        let diag = diagonal_entries(a, i).sum::<f64>() + shift;
         *d = if diag != 0.0 && diag.is_finite() {
             1.0 / diag
         } else {
             1.0
         };
-    }
+    });
+}
+
+/// The stored entries a_ii of row i (one, unless the matrix holds duplicates), read from
+/// the row's own slice rather than by iterating over every entry of the matrix.
+fn diagonal_entries(a: &CsMat<f64>, i: usize) -> impl Iterator<Item = f64> + '_ {
+    let range = a.indptr().outer_inds_sz(i);
+    let (indices, data) = (&a.indices()[range.clone()], &a.data()[range]);
+    indices
+        .iter()
+        .zip(data)
+        .filter(move |(j, _)| **j == i)
+        .map(|(_, v)| *v)
 }
 
 /// max_i Σ_{j≠i} |a_ij| / |a_ii| (∞ for a zero diagonal).
@@ -349,10 +367,9 @@ fn off_diagonal_ratio(a: &CsMat<f64>) -> f64 {
 
 pub(crate) fn mean_abs_diagonal(a: &CsMat<f64>) -> f64 {
     let n = a.rows().max(1);
-    let total: f64 = a
-        .iter()
-        .filter(|(_, (i, j))| i == j)
-        .map(|(v, _)| v.abs())
+    // Sequential in row order: the rounding of the rank-one shift does not depend on threads.
+    let total: f64 = (0..a.rows())
+        .flat_map(|i| diagonal_entries(a, i).map(f64::abs))
         .sum();
     if total > 0.0 {
         total / n as f64

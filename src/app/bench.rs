@@ -26,6 +26,10 @@ pub struct BenchRow {
     pub particles: usize,
     pub resolution: usize,
     pub neighbours_ms: f64,
+    /// The search for Verlet candidates within support + skin (`scheme.neighbour_skin`).
+    pub skin_search_ms: f64,
+    /// A step that reuses the candidates: mirrors moved, candidates filtered.
+    pub skin_reuse_ms: f64,
     pub kernel_sums_ms: f64,
     pub operators_ms: f64,
     pub ppe_assembly_ms: f64,
@@ -153,16 +157,32 @@ pub fn bench_size(target_particles: usize, steps: usize, lu_max: usize) -> Resul
     let kernel = sim.kernel;
     let repeats = (200_000 / n).clamp(2, 50);
 
-    // Neighbour search: mirrors, cell lists, CSR lists.
+    // Neighbour search: mirrors, cell lists, CSR lists; with a Verlet skin, the search for
+    // candidates (mirrors within support + skin, rows sorted) and a step that reuses them
+    // (mirrors moved, candidates filtered).
+    let support = kernel.support();
+    let reach = support + crate::engine::neighbourhood::SKIN * sim.spacing;
     let mut ghosts = Ghosts::new(walls);
+    ghosts.domain = Some(sim.domain);
     let mut search = NeighbourSearch::new();
     let mut list = NeighbourList::default();
+    let mut candidates = NeighbourList::default();
     let mut points = Vec::new();
     let (neighbours_ms, _) = time_ms(repeats, || {
         points.clear();
         points.extend_from_slice(&sim.state.position);
-        ghosts.build(kernel.support(), &mut points);
-        search.build(&sim.domain, &points, n, kernel.support(), &mut list);
+        ghosts.build(support, &mut points);
+        search.build(&sim.domain, &points, n, support, &mut list);
+    });
+    let (skin_search_ms, _) = time_ms(repeats, || {
+        points.truncate(n);
+        ghosts.build(reach, &mut points);
+        search.build_candidates(&sim.domain, &points, n, reach, &mut candidates);
+    });
+    let (skin_reuse_ms, _) = time_ms(repeats, || {
+        points.truncate(n);
+        ghosts.refresh(&mut points);
+        search.filter(&candidates, &sim.domain, &points, support, &mut list);
     });
     let mut sums = KernelSums::default();
     let dv = sim.particle_volume();
@@ -214,6 +234,8 @@ pub fn bench_size(target_particles: usize, steps: usize, lu_max: usize) -> Resul
         particles: n,
         resolution,
         neighbours_ms,
+        skin_search_ms,
+        skin_reuse_ms,
         kernel_sums_ms,
         operators_ms,
         ppe_assembly_ms,
@@ -243,9 +265,11 @@ pub fn run(
     let mut table = String::new();
     let _ = writeln!(
         table,
-        "{:>7} {:>9} {:>9} {:>9} {:>9} {:>14} {:>14} {:>9} {:>9} {:>9} {:>11} {:>7} {:>9}",
+        "{:>7} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>14} {:>14} {:>9} {:>9} {:>9} {:>11} {:>7} {:>9}",
         "N",
         "neigh ms",
+        "skin srch",
+        "reuse",
         "kernel",
         "ops",
         "assembly",
@@ -268,9 +292,11 @@ pub fn run(
     for &size in sizes {
         let r = bench_size(size, steps, lu_max)?;
         let line = format!(
-            "{:>7} {:>9.3} {:>9.3} {:>9.3} {:>9.3} {:>8.2} ({:>4.0}) {:>8.2} ({:>4.0}) {:>9.2} {:>9.3} {:>9.2} {:>11.0} {:>7.1} {:>9.0}\n",
+            "{:>7} {:>9.3} {:>9.3} {:>9.3} {:>9.3} {:>9.3} {:>9.3} {:>8.2} ({:>4.0}) {:>8.2} ({:>4.0}) {:>9.2} {:>9.3} {:>9.2} {:>11.0} {:>7.1} {:>9.0}\n",
             r.particles,
             r.neighbours_ms,
+            r.skin_search_ms,
+            r.skin_reuse_ms,
             r.kernel_sums_ms,
             r.operators_ms,
             r.ppe_assembly_ms,
@@ -291,14 +317,16 @@ pub fn run(
         table.push_str(&line);
         rows.push(r);
     }
-    let mut csv = String::from("particles,resolution,neighbours_ms,kernel_sums_ms,operators_ms,ppe_assembly_ms,ppe_bicgstab_cold_ms,ppe_bicgstab_cold_iterations,ppe_bicgstab_warm_ms,ppe_bicgstab_warm_iterations,ppe_lu_ms,ppe_lu_cached_ms,step_ms,particle_steps_per_second,ppe_iterations_per_step,bytes_per_particle\n");
+    let mut csv = String::from("particles,resolution,neighbours_ms,skin_search_ms,skin_reuse_ms,kernel_sums_ms,operators_ms,ppe_assembly_ms,ppe_bicgstab_cold_ms,ppe_bicgstab_cold_iterations,ppe_bicgstab_warm_ms,ppe_bicgstab_warm_iterations,ppe_lu_ms,ppe_lu_cached_ms,step_ms,particle_steps_per_second,ppe_iterations_per_step,bytes_per_particle\n");
     for r in &rows {
         let _ = writeln!(
             csv,
-            "{},{},{:.4},{:.4},{:.4},{:.4},{:.4},{:.2},{:.4},{:.2},{:.4},{:.4},{:.4},{:.1},{:.2},{:.0}",
+            "{},{},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.2},{:.4},{:.2},{:.4},{:.4},{:.4},{:.1},{:.2},{:.0}",
             r.particles,
             r.resolution,
             r.neighbours_ms,
+            r.skin_search_ms,
+            r.skin_reuse_ms,
             r.kernel_sums_ms,
             r.operators_ms,
             r.ppe_assembly_ms,

@@ -1,6 +1,15 @@
 //! Step 2's particle configuration: the positions r*, the wall mirrors, the CSR neighbour
 //! lists and the kernel sums (pair factors and Bonet–Lok L_i, eq. (22)) every operator reads.
-//! Rebuilt every step when the particles move, once when they do not.
+//! Updated every step when the particles move, once when they do not.
+//!
+//! The cell search runs only now and then (Verlet 1967's skin): it lists as candidates every
+//! point within support + skin, with the mirrors of every particle within that reach of a
+//! wall, and each step keeps the candidates within the support. That is exact while no point
+//! (nor wall) has moved more than skin/2 since the search: a pair within the support now was
+//! within support + skin then. Candidate rows are sorted by index, so the lists are the same
+//! whatever the (non-zero) skin and whenever the search last ran (and after a restart).
+//! Without a skin the search runs every step and its rows keep its cell order: the same
+//! pairs, summed in another order (results differ from a skinned run's in round-off).
 
 use crate::engine::boundary::Ghosts;
 use crate::engine::kernel::QuinticSpline;
@@ -8,6 +17,25 @@ use crate::engine::math::Vec2;
 use crate::engine::neighbours::{Domain, NeighbourList, NeighbourSearch};
 use crate::engine::operators::KernelSums;
 use crate::engine::ordering::Reorder;
+use rayon::prelude::*;
+
+/// The skin `scheme.neighbour_skin` defaults to, in units of δr, when it pays: the cell search
+/// costs 2–3 filterings of its candidates (`rheosph bench`), and 0.5δr lets the particles of
+/// the default explicit case move ~15 steps between searches.
+pub const SKIN: f64 = 0.5;
+
+/// The default skin (a length) for particles moving up to `displacement` per step: [`SKIN`]δr
+/// when that leaves at least four steps between searches, none otherwise (a large implicit
+/// step moves particles ~0.26δr: every step would search anyway, and a search with a skin
+/// costs more than one without).
+pub fn default_skin(spacing: f64, displacement: f64) -> f64 {
+    let skin = SKIN * spacing;
+    if displacement <= skin / 8.0 {
+        skin
+    } else {
+        0.0
+    }
+}
 
 /// Points (fluid then ghosts), neighbour lists and kernel sums of one configuration.
 #[derive(Default)]
@@ -23,14 +51,48 @@ pub struct Neighbourhood {
     /// The lists describe the current particles (false after a reordering or restore).
     valid: bool,
     reorder: Reorder,
+    /// Every point within support + skin at the last search, rows sorted by index.
+    candidates: NeighbourList,
+    /// The points (fluid and ghosts) at the last search.
+    reference: Vec<Vec2>,
+    /// The candidates describe the current particles and ghosts.
+    candidates_valid: bool,
+    /// The skin, a length (zero: a search every step).
+    skin: f64,
+    /// Cell searches run so far.
+    searches: usize,
 }
 
 impl Neighbourhood {
+    /// A configuration with mirrors by `ghosts`, searched every step until [`Self::set_skin`].
     pub fn new(ghosts: Ghosts) -> Self {
         Self {
             ghosts,
             ..Default::default()
         }
+    }
+
+    /// Sets the Verlet skin to `skin` (a length), narrowed so that no mirror can be placed
+    /// through a circle into the fluid beyond; the next update searches.
+    pub fn set_skin(&mut self, skin: f64, support: f64) {
+        let deepest = self
+            .ghosts
+            .walls
+            .iter()
+            .map(|w| w.shape.mirror_depth())
+            .fold(f64::INFINITY, f64::min);
+        self.skin = skin.min(deepest - support).max(0.0);
+        self.invalidate();
+    }
+
+    /// The skin.
+    pub fn skin(&self) -> f64 {
+        self.skin
+    }
+
+    /// Cell searches run so far (a step that reuses the candidates runs none).
+    pub fn searches(&self) -> usize {
+        self.searches
     }
 
     /// Heap bytes held.
@@ -42,6 +104,8 @@ impl Neighbourhood {
             + self.sums.heap_bytes()
             + crate::engine::vec_bytes(&self.volumes)
             + self.reorder.heap_bytes()
+            + self.candidates.heap_bytes()
+            + crate::engine::vec_bytes(&self.reference)
     }
 
     /// The three parts every operator takes.
@@ -52,6 +116,7 @@ impl Neighbourhood {
     /// The lists no longer describe the particles.
     pub fn invalidate(&mut self) {
         self.valid = false;
+        self.candidates_valid = false;
     }
 
     /// Mirrors, lists and kernel sums for the first `n` points (the fluid particles at r*),
@@ -66,9 +131,22 @@ impl Neighbourhood {
             return false;
         }
         self.ghosts.domain = Some(*domain);
-        self.ghosts.build(kernel.support(), &mut self.points);
-        self.search
-            .build(domain, &self.points, n, kernel.support(), &mut self.list);
+        let support = kernel.support();
+        if self.skin == 0.0 {
+            // No skin: the cell search every step, rows in its cell order.
+            self.cell_search(domain, n, support, false);
+        } else {
+            if !self.candidates_hold(domain, n) {
+                self.cell_search(domain, n, support + self.skin, true);
+            }
+            self.search.filter(
+                &self.candidates,
+                domain,
+                &self.points,
+                support,
+                &mut self.list,
+            );
+        }
         if self.ghosts.has_volume_ratios() {
             self.ghosts.point_volumes(n, &mut self.volumes);
         } else {
@@ -80,6 +158,44 @@ impl Neighbourhood {
         true
     }
 
+    /// Mirrors of the particles within `reach` of a wall and the cell search for the pairs
+    /// within `reach`: the step's lists, or (`candidates`) the skin's candidates.
+    fn cell_search(&mut self, domain: &Domain, n: usize, reach: f64, candidates: bool) {
+        self.points.truncate(n);
+        self.ghosts.build(reach, &mut self.points);
+        if candidates {
+            self.search
+                .build_candidates(domain, &self.points, n, reach, &mut self.candidates);
+            self.reference.clone_from(&self.points);
+            self.candidates_valid = true;
+        } else {
+            self.search
+                .build(domain, &self.points, n, reach, &mut self.list);
+        }
+        self.searches += 1;
+    }
+
+    /// Moves the mirrors of the last search to the particles at r* (the first `n` points)
+    /// and says whether its candidates still hold: the same particles, no point and no wall
+    /// moved more than half the skin since.
+    fn candidates_hold(&mut self, domain: &Domain, n: usize) -> bool {
+        if !self.candidates_valid || self.candidates.rows() != n || !self.ghosts.can_refresh() {
+            return false;
+        }
+        self.ghosts.refresh(&mut self.points);
+        let half = 0.5 * self.skin;
+        if self.points.len() != self.reference.len() || self.ghosts.drift() > half {
+            return false;
+        }
+        let moved2 = self
+            .points
+            .par_iter()
+            .zip(&self.reference)
+            .map(|(p, r)| domain.min_image(p - r).norm_squared())
+            .reduce(|| 0.0, f64::max);
+        moved2 <= half * half
+    }
+
     /// The Morton order of `positions` (see [`crate::engine::ordering`]), to permute every
     /// per-particle array with; None when they are in that order already.
     pub fn reorder(
@@ -89,7 +205,7 @@ impl Neighbourhood {
         cell: f64,
     ) -> Option<&mut Reorder> {
         if self.reorder.compute(domain, positions, cell) {
-            self.valid = false;
+            self.invalidate();
             Some(&mut self.reorder)
         } else {
             None

@@ -79,6 +79,21 @@ impl NeighbourList {
     pub fn pairs(&self) -> usize {
         self.index.len()
     }
+
+    /// CSR offsets from the rows' `counts` (prefix sum), with `index` and `rij` sized to
+    /// match.
+    fn set_offsets(&mut self, counts: &[usize]) {
+        self.offsets.clear();
+        self.offsets.reserve(counts.len() + 1);
+        self.offsets.push(0);
+        let mut total = 0;
+        for c in counts {
+            total += c;
+            self.offsets.push(total);
+        }
+        self.index.resize(total, 0);
+        self.rij.resize(total, Vec2::zeros());
+    }
 }
 
 /// Reusable cell-linked-list search. Buffers grow to the largest problem seen and are reused.
@@ -96,6 +111,10 @@ pub struct NeighbourSearch {
 /// support-wide cells (measured: ~30 % less time in the search).
 const SUBDIVISION: usize = 2;
 const STENCIL: usize = 2 * SUBDIVISION + 1;
+
+/// Pairs closer than this fraction of the support are coincident points: they carry no
+/// gradient information and would divide by zero in the Laplacian, so they are skipped.
+const COINCIDENT: f64 = 1e-9;
 
 /// Cell layout: `n[a]` cells of width `width[a]` starting at `origin[a]`.
 #[derive(Clone, Copy, Debug)]
@@ -200,12 +219,92 @@ impl NeighbourSearch {
         support: f64,
         out: &mut NeighbourList,
     ) {
+        self.build_within(
+            domain,
+            points,
+            n_rows,
+            support,
+            (COINCIDENT * support).powi(2),
+            out,
+        );
+    }
+
+    /// Candidate lists for a Verlet skin: every point within `radius` (coincident ones
+    /// included: they may part before the next build), each row sorted by index, the order
+    /// [`Self::filter`] keeps. The separations are not kept (`rij` is left empty).
+    pub fn build_candidates(
+        &mut self,
+        domain: &Domain,
+        points: &[Vec2],
+        n_rows: usize,
+        radius: f64,
+        out: &mut NeighbourList,
+    ) {
+        // A negative squared distance: no pair is skipped.
+        self.build_within(domain, points, n_rows, radius, -1.0, out);
+        out.rij.clear();
+        let offsets = &out.offsets;
+        let index = RowWriter::new(&mut out.index);
+        (0..n_rows).into_par_iter().for_each(|i| {
+            // SAFETY: CSR row ranges are disjoint and each row is visited by one task.
+            unsafe { index.row(offsets, i) }.sort_unstable();
+        });
+    }
+
+    /// The pairs of `candidates` closer than `support` at `points` (and not coincident),
+    /// rows in the candidates' order: the lists [`Self::build`] would find, sorted by index.
+    pub fn filter(
+        &mut self,
+        candidates: &NeighbourList,
+        domain: &Domain,
+        points: &[Vec2],
+        support: f64,
+        out: &mut NeighbourList,
+    ) {
+        let n_rows = candidates.rows();
+        let (support2, coincident2) = (support * support, (COINCIDENT * support).powi(2));
+        let within = |i: usize, j: u32| {
+            let d = domain.min_image(points[i] - points[j as usize]);
+            let r2 = d.norm_squared();
+            (r2 < support2 && r2 > coincident2).then_some(d)
+        };
+        let mut counts = std::mem::take(&mut self.counts);
+        counts.resize(n_rows, 0);
+        counts.par_iter_mut().enumerate().for_each(|(i, c)| {
+            let row = &candidates.index[candidates.range(i)];
+            *c = row.iter().filter(|&&j| within(i, j).is_some()).count();
+        });
+        out.set_offsets(&counts);
+        let offsets = &out.offsets;
+        let (index, rij) = (RowWriter::new(&mut out.index), RowWriter::new(&mut out.rij));
+        (0..n_rows).into_par_iter().for_each(|i| {
+            // SAFETY: CSR row ranges are disjoint and each row is visited by one task.
+            let (idx, rij) = unsafe { (index.row(offsets, i), rij.row(offsets, i)) };
+            let mut k = 0;
+            for &j in &candidates.index[candidates.range(i)] {
+                if let Some(d) = within(i, j) {
+                    idx[k] = j;
+                    rij[k] = d;
+                    k += 1;
+                }
+            }
+        });
+        self.counts = counts;
+    }
+
+    /// [`Self::build`] with pairs whose squared distance is at most `min_distance2` skipped.
+    fn build_within(
+        &mut self,
+        domain: &Domain,
+        points: &[Vec2],
+        n_rows: usize,
+        support: f64,
+        min_distance2: f64,
+        out: &mut NeighbourList,
+    ) {
         let grid = Grid::new(domain, points, support);
         self.bin(&grid, points);
         let support2 = support * support;
-        // Pairs closer than this are coincident points: they carry no gradient information
-        // and would divide by zero in the Laplacian, so they are skipped.
-        let coincident2 = (1e-9 * support).powi(2);
 
         // Pass 1: count.
         let mut counts = std::mem::take(&mut self.counts);
@@ -226,7 +325,7 @@ impl NeighbourSearch {
                         }
                         let d = domain.min_image(pi - points[j as usize]);
                         let r2 = d.norm_squared();
-                        if r2 < support2 && r2 > coincident2 {
+                        if r2 < support2 && r2 > min_distance2 {
                             f(j, d);
                         }
                     }
@@ -238,18 +337,7 @@ impl NeighbourSearch {
             visit(i, &mut |_, _| k += 1);
             *c = k;
         });
-
-        // Prefix sum into CSR offsets.
-        out.offsets.clear();
-        out.offsets.reserve(n_rows + 1);
-        out.offsets.push(0);
-        let mut total = 0;
-        for c in &counts {
-            total += c;
-            out.offsets.push(total);
-        }
-        out.index.resize(total, 0);
-        out.rij.resize(total, Vec2::zeros());
+        out.set_offsets(&counts);
 
         // Pass 2: fill, each row into its own disjoint range.
         let offsets = &out.offsets;
@@ -371,6 +459,42 @@ mod tests {
                 let j = list.index[k] as usize;
                 let d = domain.min_image(pts[i] - pts[j]);
                 assert!((list.rij[k] - d).norm() < 1e-14);
+            }
+        }
+    }
+
+    /// Candidates within support + skin, filtered after every point moved less than half the
+    /// skin, give exactly the pairs within the support, each row sorted by index.
+    #[test]
+    fn filtered_candidates_match_brute_force_after_small_moves() {
+        let domain = Domain {
+            min: Vec2::new(0.0, 0.0),
+            max: Vec2::new(1.0, 1.0),
+            periodic: [true, false],
+        };
+        let (support, skin) = (0.13, 0.04);
+        let pts = points(1500, &domain, 0.2);
+        let n_rows = 1000;
+        let mut search = NeighbourSearch::new();
+        let mut candidates = NeighbourList::default();
+        search.build_candidates(&domain, &pts, n_rows, support + skin, &mut candidates);
+        // Moves of up to 0.49 skin in pseudo-random directions, wrapped in x.
+        let moved: Vec<Vec2> = pts
+            .iter()
+            .enumerate()
+            .map(|(k, p)| {
+                let angle = (k as f64 * 0.618_034).fract() * std::f64::consts::TAU;
+                domain.wrap(p + 0.49 * skin * Vec2::new(angle.cos(), angle.sin()))
+            })
+            .collect();
+        let mut list = NeighbourList::default();
+        search.filter(&candidates, &domain, &moved, support, &mut list);
+        let expected = brute_force(&domain, &moved, n_rows, support);
+        for (i, exp) in expected.iter().enumerate() {
+            assert_eq!(&list.index[list.range(i)], &exp[..], "row {i}");
+            for k in list.range(i) {
+                let d = domain.min_image(moved[i] - moved[list.index[k] as usize]);
+                assert_eq!(list.rij[k], d);
             }
         }
     }

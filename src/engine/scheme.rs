@@ -36,6 +36,9 @@ pub struct Scheme {
     pub ppe: PpeSettings,
     /// Periodically sort particles along a Morton curve for memory locality.
     pub reorder: bool,
+    /// The Verlet skin of the neighbour search, in units of δr (None: by the step's size,
+    /// [`crate::engine::neighbourhood::default_skin`]).
+    pub neighbour_skin: Option<f64>,
     /// How the conformation is carried onto wall mirrors.
     pub wall_conformation: TensorMirror,
     /// Mirrors or a fixed ghost lattice behind plane walls.

@@ -237,6 +237,10 @@ pub struct SchemeSpec {
     pub preconditioner: PreconditionerChoice,
     /// Periodically sort particles along a Morton curve for memory locality.
     pub reorder: bool,
+    /// The Verlet skin of the neighbour search in units of δr (0: a cell search every
+    /// step; unset: 0.5 when the particles move less than 1/16 of δr per step, else 0).
+    /// Results do not depend on it, only the time per step.
+    pub neighbour_skin: Option<f64>,
     /// How the conformation is carried onto wall mirrors.
     pub wall_conformation: TensorMirror,
     /// `mirror` or `fixed-ghost`: how the particles behind plane walls are placed.
@@ -282,6 +286,7 @@ impl Default for SchemeSpec {
             ppe_solver: PpeSolver::Auto,
             preconditioner: PreconditionerChoice::Auto,
             reorder: true,
+            neighbour_skin: None,
             wall_conformation: TensorMirror::Even,
             wall_model: WallModel::Mirror,
             projection: ProjectionChoice::Auto,

@@ -286,6 +286,10 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
         ));
     }
     let evss_alpha = in_range("scheme.evss_alpha", s.evss_alpha, 0.0, 1.0)?;
+    let neighbour_skin = s
+        .neighbour_skin
+        .map(|v| in_range("scheme.neighbour_skin", v, 0.0, 4.0))
+        .transpose()?;
     if !(s.dt_factor.is_finite() && s.dt_factor > 0.0) {
         return Err(field_err(
             "scheme.dt_factor",
@@ -360,6 +364,7 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
             },
         },
         reorder: s.reorder,
+        neighbour_skin,
         wall_conformation: s.wall_conformation,
         wall_model: s.wall_model,
         free_surface_pressure: s.free_surface_pressure,

@@ -376,6 +376,7 @@ impl<'a> Run<'a> {
             max_density_deviation: totals.max_density_deviation,
             max_sound_speed: totals.max_sound_speed,
             neighbour_pairs_per_particle: sim.neighbour_pairs() as f64 / particles as f64,
+            neighbour_searches: sim.neighbour_searches(),
             probes,
             version: env!("CARGO_PKG_VERSION"),
             case: self.case.source.clone(),

@@ -62,6 +62,9 @@ pub struct Summary {
     /// by `scheme.sound_speed_stress_factor`; 0 for the projection).
     pub max_sound_speed: f64,
     pub neighbour_pairs_per_particle: f64,
+    /// Cell searches for neighbours (`scheme.neighbour_skin`: the other steps filter the
+    /// last search's candidates).
+    pub neighbour_searches: usize,
     /// What the probes report, by name: `steady` (channels with a cylinder: steady state,
     /// time averages, drag and centre-line values), `drop` (the largest width, the final
     /// shape, the area drift), `jet` (impact, buckling onset, folding frequency).

@@ -90,6 +90,16 @@ pub struct Ghosts {
     /// Scratch of the fixed lattice's nearest-particle search and its ghosts.
     near: Vec<fixed::NearParticle>,
     lattice_ghosts: Vec<fixed::FixedGhost>,
+    /// The walls' shapes at the last build (for [`Self::drift`]).
+    built_shapes: Vec<Shape>,
+}
+
+/// One mirror's position and the values its wall gives it.
+struct Mirror {
+    position: Vec2,
+    volume: f64,
+    normal: Vec2,
+    offset: Vec2,
 }
 
 impl Ghosts {
@@ -103,6 +113,7 @@ impl Ghosts {
             + b(&self.offset)
             + b(&self.near)
             + b(&self.lattice_ghosts)
+            + b(&self.built_shapes)
     }
 
     pub fn new(walls: Vec<Wall>) -> Self {
@@ -152,6 +163,8 @@ impl Ghosts {
         self.volume.clear();
         self.normal.clear();
         self.offset.clear();
+        self.built_shapes.clear();
+        self.built_shapes.extend(self.walls.iter().map(|w| w.shape));
         let moving = self.walls.iter().any(|w| w.condition.moves());
         if let Some(spacing) = self.lattice {
             self.build_fixed(reach, spacing, moving, points);
@@ -160,23 +173,71 @@ impl Ghosts {
         let n_fluid = points.len();
         for i in 0..n_fluid {
             for (w, wall) in self.walls.iter().enumerate() {
-                let shape = &wall.shape;
-                // A circle sees the particle's periodic image nearest its centre; the mirror
-                // goes back into the box.
-                let p = shape.nearest_image(&points[i], self.domain.as_ref());
-                if shape.distance(&p) < reach {
-                    let q = shape.reflect(&p);
-                    self.volume.push(shape.volume_ratio(&p));
-                    self.normal.push(shape.normal(&p));
+                // A circle sees the particle's periodic image nearest its centre.
+                let p = wall.shape.nearest_image(&points[i], self.domain.as_ref());
+                if wall.shape.distance(&p) < reach {
+                    let m = self.mirror(wall, &p, moving);
+                    self.volume.push(m.volume);
+                    self.normal.push(m.normal);
                     if moving {
-                        self.offset.push(wall.condition.velocity_offset(q));
+                        self.offset.push(m.offset);
                     }
-                    points.push(self.domain.map_or(q, |d| d.wrap(q)));
+                    points.push(m.position);
                     self.parent.push(i as u32);
                     self.wall.push(w as u16);
                 }
             }
         }
+    }
+
+    /// The mirror of the fluid point `p` (its image nearest the wall) across `wall`, back
+    /// in the box.
+    fn mirror(&self, wall: &Wall, p: &Vec2, moving: bool) -> Mirror {
+        let q = wall.shape.reflect(p);
+        Mirror {
+            position: self.domain.map_or(q, |d| d.wrap(q)),
+            volume: wall.shape.volume_ratio(p),
+            normal: wall.shape.normal(p),
+            offset: if moving {
+                wall.condition.velocity_offset(q)
+            } else {
+                Vec2::zeros()
+            },
+        }
+    }
+
+    /// Whether [`Self::refresh`] can move the ghosts of the last build (mirrors can; the
+    /// fixed lattice re-chooses its parents, which only a build does).
+    pub fn can_refresh(&self) -> bool {
+        self.lattice.is_none()
+    }
+
+    /// Moves the mirrors of the last [`Self::build`] to the parents' positions in `points`
+    /// (the fluid positions on entry), appending them as `build` would, with their volumes,
+    /// normals and offsets: the same mirrors, in the same order, for a Verlet skin.
+    pub fn refresh(&mut self, points: &mut Vec<Vec2>) {
+        let moving = self.walls.iter().any(|w| w.condition.moves());
+        for g in 0..self.parent.len() {
+            let wall = &self.walls[self.wall[g] as usize];
+            let parent = points[self.parent[g] as usize];
+            let p = wall.shape.nearest_image(&parent, self.domain.as_ref());
+            let m = self.mirror(wall, &p, moving);
+            self.volume[g] = m.volume;
+            self.normal[g] = m.normal;
+            if moving {
+                self.offset[g] = m.offset;
+            }
+            points.push(m.position);
+        }
+    }
+
+    /// How far any wall has moved since the last build (∞ for a wall that changed shape).
+    pub fn drift(&self) -> f64 {
+        self.walls
+            .iter()
+            .zip(&self.built_shapes)
+            .map(|(w, built)| w.shape.displacement_from(built))
+            .fold(0.0, f64::max)
     }
 
     /// The fixed ghosts of every wall ([`fixed`]).

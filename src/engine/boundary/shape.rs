@@ -110,6 +110,32 @@ impl Shape {
         }
     }
 
+    /// How far this shape lies from `other`: the largest distance a surface point moved
+    /// (∞ when they are not the same kind of surface or face different ways).
+    pub fn displacement_from(&self, other: &Shape) -> f64 {
+        match (self, other) {
+            (Shape::Plane(a), Shape::Plane(b))
+                if a.axis == b.axis && a.fluid_side == b.fluid_side =>
+            {
+                (a.position - b.position).abs()
+            }
+            (Shape::Circle(a), Shape::Circle(b)) => {
+                (a.centre - b.centre).norm() + (a.radius - b.radius).abs()
+            }
+            _ => f64::INFINITY,
+        }
+    }
+
+    /// The deepest a mirror can lie behind the surface and still be inside the solid: 2R
+    /// for a circle (a particle farther than 2R from its surface would be mirrored through
+    /// the centre into the fluid beyond), unbounded for a plane.
+    pub fn mirror_depth(&self) -> f64 {
+        match self {
+            Shape::Plane(_) => f64::INFINITY,
+            Shape::Circle(c) => 2.0 * c.radius,
+        }
+    }
+
     /// Unit normal of the surface near `p` (sign irrelevant for reflections).
     pub fn normal(&self, p: &Vec2) -> Vec2 {
         match self {

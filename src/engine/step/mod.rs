@@ -30,7 +30,7 @@ use crate::engine::free_surface::{FreeSurface, FreeSurfaceStage};
 use crate::engine::kernel::QuinticSpline;
 use crate::engine::kinematics::Kinematics;
 use crate::engine::math::{Sym2, Vec2};
-use crate::engine::neighbourhood::Neighbourhood;
+use crate::engine::neighbourhood::{default_skin, Neighbourhood};
 use crate::engine::neighbours::Domain;
 use crate::engine::operators::DivergenceForm;
 use crate::engine::ordering::Reordering;
@@ -117,6 +117,7 @@ pub struct Simulation {
 impl Simulation {
     pub fn new(setup: Setup) -> Self {
         let n = setup.positions.len();
+        let skin = setup.scheme.neighbour_skin;
         let (fluid, scheme) = (setup.fluid, setup.scheme);
         let viscoelastic = fluid.model.is_viscoelastic();
         let conformation = if viscoelastic {
@@ -180,7 +181,7 @@ impl Simulation {
                 }
             },
         };
-        Self {
+        let mut sim = Self {
             kernel,
             fluid,
             scheme,
@@ -202,7 +203,21 @@ impl Simulation {
             },
             timers: StageSeconds::default(),
             stages,
-        }
+        };
+        sim.set_neighbour_skin(skin);
+        sim
+    }
+
+    /// The Verlet skin of the neighbour search: `skin`·δr, or by default
+    /// [`default_skin`] for the distance the particles move in one step at the velocity
+    /// scale.
+    pub fn set_neighbour_skin(&mut self, skin: Option<f64>) {
+        let skin = skin.map_or_else(
+            || default_skin(self.spacing, self.scales.velocity * self.stable_dt()),
+            |s| s * self.spacing,
+        );
+        let support = self.kernel.support();
+        self.stages.hood.set_skin(skin, support);
     }
 
     pub fn particles(&self) -> usize {
@@ -679,6 +694,11 @@ impl Simulation {
     /// Neighbour pairs of the last step (for memory and cost reports).
     pub fn neighbour_pairs(&self) -> usize {
         self.stages.hood.list.pairs()
+    }
+
+    /// Cell searches for neighbours so far (steps within the Verlet skin run none).
+    pub fn neighbour_searches(&self) -> usize {
+        self.stages.hood.searches()
     }
 
     /// LU factorisations of the PPE so far (an Eulerian run factorises once).
