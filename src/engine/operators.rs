@@ -14,7 +14,7 @@
 
 use crate::engine::kernel::QuinticSpline;
 use crate::engine::math::{Mat2, Sym2, Vec2};
-use crate::engine::neighbours::NeighbourList;
+use crate::engine::neighbours::{NeighbourList, RowWriter};
 use rayon::prelude::*;
 
 /// Sign of the divergence form in eq. (20).
@@ -71,45 +71,40 @@ impl KernelSums {
         self.factor.resize(list.pairs(), 0.0);
         self.grad_hat.resize(list.pairs(), Vec2::zeros());
         self.correction.resize(n, Mat2::identity());
-        self.factor
-            .par_iter_mut()
-            .zip(list.rij.par_iter())
-            .zip(list.index.par_iter())
-            .for_each(|((f, rij), &j)| {
-                let volume = if volumes.is_empty() {
-                    1.0
-                } else {
-                    volumes[j as usize]
-                };
-                *f = kernel.gradient_factor(rij.norm()) * volume;
-            });
-        let factor = &self.factor;
+        let offsets = &list.offsets;
+        let factor = RowWriter::new(&mut self.factor);
+        let grad_hat = RowWriter::new(&mut self.grad_hat);
+        // One pass per particle: its pairs' factors, L_i from them, then its ∇Ŵ_ij, while
+        // the row is in cache.
         self.correction
             .par_iter_mut()
             .enumerate()
             .for_each(|(i, l)| {
+                // SAFETY: each task writes only row i of the CSR arrays.
+                let (factor, grad_hat) = unsafe { (factor.row(offsets, i), grad_hat.row(offsets, i)) };
+                let (rij, index) = (&list.rij[list.range(i)], &list.index[list.range(i)]);
+                for ((f, r), &j) in factor.iter_mut().zip(rij).zip(index) {
+                    let volume = if volumes.is_empty() {
+                        1.0
+                    } else {
+                        volumes[j as usize]
+                    };
+                    *f = kernel.gradient_factor(r.norm()) * volume;
+                }
                 // M_ab = Σ_j (r_ji)_a (∇W_ij)_b δV = −Σ_j F r_a r_b δV (symmetric).
                 let mut m = Mat2::zeros();
-                for k in list.range(i) {
-                    let r = list.rij[k];
-                    m -= (factor[k] * dv) * (r * r.transpose());
+                for (f, r) in factor.iter().zip(rij) {
+                    m -= (f * dv) * (r * r.transpose());
                 }
                 *l = if m.determinant().abs() > MIN_MOMENT_DET {
                     m.try_inverse().unwrap_or_else(Mat2::identity)
                 } else {
                     Mat2::identity()
                 };
+                for ((g, f), r) in grad_hat.iter_mut().zip(factor.iter()).zip(rij) {
+                    *g = *l * (*f * r);
+                }
             });
-        let correction = &self.correction;
-        let grad_hat = crate::engine::neighbours::RowWriter::new(&mut self.grad_hat);
-        (0..n).into_par_iter().for_each(|i| {
-            // SAFETY: each task writes only row i of the CSR array.
-            let row = unsafe { grad_hat.row(&list.offsets, i) };
-            let l = correction[i];
-            for (g, k) in row.iter_mut().zip(list.range(i)) {
-                *g = l * (factor[k] * list.rij[k]);
-            }
-        });
     }
 
     /// Uncorrected kernel gradient ∇W_ij of pair `k`.
