@@ -80,9 +80,9 @@ impl NeighbourList {
         self.index.len()
     }
 
-    /// CSR offsets from the rows' `counts` (prefix sum), with `index` and `rij` sized to
-    /// match.
-    fn set_offsets(&mut self, counts: &[usize]) {
+    /// CSR offsets from the rows' `counts` (prefix sum), with `index` and (with
+    /// `separations`) `rij` sized to match; without, `rij` is left empty.
+    fn set_offsets(&mut self, counts: &[usize], separations: bool) {
         self.offsets.clear();
         self.offsets.reserve(counts.len() + 1);
         self.offsets.push(0);
@@ -92,7 +92,8 @@ impl NeighbourList {
             self.offsets.push(total);
         }
         self.index.resize(total, 0);
-        self.rij.resize(total, Vec2::zeros());
+        self.rij
+            .resize(if separations { total } else { 0 }, Vec2::zeros());
     }
 }
 
@@ -104,7 +105,14 @@ pub struct NeighbourSearch {
     point_cell: Vec<u32>,
     counts: Vec<usize>,
     next: Vec<usize>,
+    /// Each block's filtered pairs (indices, separations), reused step after step.
+    filtered: Vec<(Vec<u32>, Vec<Vec2>)>,
+    block_start: Vec<usize>,
 }
+
+/// Rows per block of the filter: enough to make a block's scratch and copy cheap beside
+/// its distance tests, few enough to share the rows of a small run between the threads.
+const FILTER_BLOCK: usize = 128;
 
 /// Cells per kernel support: cells of width support/2 and a 5×5 stencil cover the support
 /// disc with 6.25 support² of candidates instead of the 9 support² of a 3×3 stencil of
@@ -201,6 +209,12 @@ impl NeighbourSearch {
             + crate::engine::vec_bytes(&self.point_cell)
             + crate::engine::vec_bytes(&self.counts)
             + crate::engine::vec_bytes(&self.next)
+            + crate::engine::vec_bytes(&self.block_start)
+            + self
+                .filtered
+                .iter()
+                .map(|(i, r)| crate::engine::vec_bytes(i) + crate::engine::vec_bytes(r))
+                .sum::<usize>()
     }
 
     pub fn new() -> Self {
@@ -219,14 +233,8 @@ impl NeighbourSearch {
         support: f64,
         out: &mut NeighbourList,
     ) {
-        self.build_within(
-            domain,
-            points,
-            n_rows,
-            support,
-            (COINCIDENT * support).powi(2),
-            out,
-        );
+        let min_distance2 = (COINCIDENT * support).powi(2);
+        self.build_within(domain, points, n_rows, (support, min_distance2), true, out);
     }
 
     /// Candidate lists for a Verlet skin: every point within `radius` (coincident ones
@@ -241,8 +249,7 @@ impl NeighbourSearch {
         out: &mut NeighbourList,
     ) {
         // A negative squared distance: no pair is skipped.
-        self.build_within(domain, points, n_rows, radius, -1.0, out);
-        out.rij.clear();
+        self.build_within(domain, points, n_rows, (radius, -1.0), false, out);
         let offsets = &out.offsets;
         let index = RowWriter::new(&mut out.index);
         (0..n_rows).into_par_iter().for_each(|i| {
@@ -268,38 +275,57 @@ impl NeighbourSearch {
             let r2 = d.norm_squared();
             (r2 < support2 && r2 > coincident2).then_some(d)
         };
+        // Rows in blocks, each filtered once into its own scratch (kept between steps), then
+        // copied into place once the offsets are known.
+        let blocks = n_rows.div_ceil(FILTER_BLOCK);
+        let mut scratch = std::mem::take(&mut self.filtered);
+        scratch.resize_with(blocks, Default::default);
         let mut counts = std::mem::take(&mut self.counts);
         counts.resize(n_rows, 0);
-        counts.par_iter_mut().enumerate().for_each(|(i, c)| {
-            let row = &candidates.index[candidates.range(i)];
-            *c = row.iter().filter(|&&j| within(i, j).is_some()).count();
-        });
-        out.set_offsets(&counts);
-        let offsets = &out.offsets;
-        let (index, rij) = (RowWriter::new(&mut out.index), RowWriter::new(&mut out.rij));
-        (0..n_rows).into_par_iter().for_each(|i| {
-            // SAFETY: CSR row ranges are disjoint and each row is visited by one task.
-            let (idx, rij) = unsafe { (index.row(offsets, i), rij.row(offsets, i)) };
-            let mut k = 0;
-            for &j in &candidates.index[candidates.range(i)] {
-                if let Some(d) = within(i, j) {
-                    idx[k] = j;
-                    rij[k] = d;
-                    k += 1;
+        scratch
+            .par_iter_mut()
+            .zip(counts.par_chunks_mut(FILTER_BLOCK))
+            .enumerate()
+            .for_each(|(b, ((idx, rij), counts))| {
+                idx.clear();
+                rij.clear();
+                for (i, c) in (b * FILTER_BLOCK..).zip(counts.iter_mut()) {
+                    let before = idx.len();
+                    for &j in &candidates.index[candidates.range(i)] {
+                        if let Some(d) = within(i, j) {
+                            idx.push(j);
+                            rij.push(d);
+                        }
+                    }
+                    *c = idx.len() - before;
                 }
-            }
+            });
+        out.set_offsets(&counts, true);
+        // The CSR position where each block of rows starts (and the end).
+        self.block_start.clear();
+        self.block_start
+            .extend((0..=blocks).map(|b| out.offsets[(b * FILTER_BLOCK).min(n_rows)]));
+        let block_start = &self.block_start;
+        let (index, rij) = (RowWriter::new(&mut out.index), RowWriter::new(&mut out.rij));
+        scratch.par_iter().enumerate().for_each(|(b, (idx, d))| {
+            // SAFETY: the blocks' ranges of the CSR arrays are disjoint.
+            let (index, rij) = unsafe { (index.row(block_start, b), rij.row(block_start, b)) };
+            index.copy_from_slice(idx);
+            rij.copy_from_slice(d);
         });
         self.counts = counts;
+        self.filtered = scratch;
     }
 
-    /// [`Self::build`] with pairs whose squared distance is at most `min_distance2` skipped.
+    /// [`Self::build`] with pairs whose squared distance is at most `min_distance2` skipped,
+    /// and the separations kept only with `separations`.
     fn build_within(
         &mut self,
         domain: &Domain,
         points: &[Vec2],
         n_rows: usize,
-        support: f64,
-        min_distance2: f64,
+        (support, min_distance2): (f64, f64),
+        separations: bool,
         out: &mut NeighbourList,
     ) {
         let grid = Grid::new(domain, points, support);
@@ -337,19 +363,22 @@ impl NeighbourSearch {
             visit(i, &mut |_, _| k += 1);
             *c = k;
         });
-        out.set_offsets(&counts);
+        out.set_offsets(&counts, separations);
 
         // Pass 2: fill, each row into its own disjoint range.
         let offsets = &out.offsets;
         let index = RowWriter::new(&mut out.index);
-        let rij = RowWriter::new(&mut out.rij);
+        let rij = separations.then(|| RowWriter::new(&mut out.rij));
         (0..n_rows).into_par_iter().for_each(|i| {
             // SAFETY: CSR row ranges are disjoint and each row is visited by one task.
-            let (idx, rij) = unsafe { (index.row(offsets, i), rij.row(offsets, i)) };
+            let idx = unsafe { index.row(offsets, i) };
+            let mut rij = rij.as_ref().map(|r| unsafe { r.row(offsets, i) });
             let mut k = 0;
             visit(i, &mut |j, d| {
                 idx[k] = j;
-                rij[k] = d;
+                if let Some(rij) = rij.as_mut() {
+                    rij[k] = d;
+                }
                 k += 1;
             });
         });

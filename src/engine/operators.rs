@@ -81,7 +81,8 @@ impl KernelSums {
             .enumerate()
             .for_each(|(i, l)| {
                 // SAFETY: each task writes only row i of the CSR arrays.
-                let (factor, grad_hat) = unsafe { (factor.row(offsets, i), grad_hat.row(offsets, i)) };
+                let (factor, grad_hat) =
+                    unsafe { (factor.row(offsets, i), grad_hat.row(offsets, i)) };
                 let (rij, index) = (&list.rij[list.range(i)], &list.index[list.range(i)]);
                 for ((f, r), &j) in factor.iter_mut().zip(rij).zip(index) {
                     let volume = if volumes.is_empty() {
