@@ -36,6 +36,12 @@ const AMG_MAX_AGE: usize = 20;
 /// 7.6 s; cylinder array R/δr = 9 (0.82) 0.31 against 0.33 s; R/δr = 18 (0.95) 3.9 against
 /// 2.8 s; P2 (> 0.99) 15.5 against 8.3 s. The PPE's Laplacian rows have the ratio 1.
 const WEAK_COUPLING: f64 = 0.9;
+/// Jacobi iterations after which [`Preconditioner::Adaptive`] turns to AMG. An AMG iteration
+/// costs ~5 Jacobi ones and its set-up ~100 (`rheosph bench --solvers`, 16k unknowns), and a
+/// hierarchy serves up to [`AMG_MAX_AGE`] solves: a solve that needs 40 Jacobi iterations
+/// would need hundreds at the tolerances of the PPE, where AMG needs ~10. The warm-started
+/// Lagrangian PPE of an explicit run needs a few, and never pays for a hierarchy.
+const JACOBI_BUDGET: usize = 40;
 
 pub(crate) struct Outcome {
     pub converged: bool,
@@ -128,6 +134,8 @@ impl BiCgStabWorkspace {
         // The preconditioner is set up only when an iteration is needed: a warm start often
         // meets the tolerance as it is, and an AMG hierarchy costs several solves to build.
         let mut preconditioned = false;
+        // The adaptive preconditioner has tried AMG in this solve.
+        let mut switched = false;
         if options.null_space == NullSpace::Constant {
             remove_mean(x, &mut self.partials);
         }
@@ -159,7 +167,21 @@ impl BiCgStabWorkspace {
                 self.choose_preconditioner(a, options, rank_one);
                 preconditioned = true;
             }
-            iterations += self.iterate(&op, x, target, options.max_iterations - iterations);
+            let mut budget = options.max_iterations - iterations;
+            let adapting = options.preconditioner == Preconditioner::Adaptive
+                && self.amg.is_none()
+                && !switched;
+            if adapting {
+                if iterations >= JACOBI_BUDGET {
+                    // Jacobi has had its share: AMG for the rest of this solve and the
+                    // next ones while the hierarchy is fresh.
+                    self.build_amg(a, options);
+                    switched = true;
+                    continue;
+                }
+                budget = budget.min(JACOBI_BUDGET - iterations);
+            }
+            iterations += self.iterate(&op, x, target, budget);
         }
         if options.null_space == NullSpace::Constant {
             remove_mean(x, &mut self.partials);
@@ -187,21 +209,34 @@ impl BiCgStabWorkspace {
     }
 
     /// Keeps, builds or drops the AMG hierarchy; Jacobi's diagonal whenever there is none.
+    /// The adaptive choice keeps a fresh hierarchy and otherwise starts with Jacobi.
     fn choose_preconditioner(&mut self, a: &CsMat<f64>, options: &SolverOptions, rank_one: f64) {
         let stale = self.amg.as_ref().is_none_or(|m| m.rows() != a.rows())
             || (!options.matrix_unchanged && self.amg_age >= AMG_MAX_AGE);
         let wanted = options.preconditioner == Preconditioner::Amg;
-        if wanted && !stale {
+        let keep = wanted || options.preconditioner == Preconditioner::Adaptive;
+        if keep && !stale {
             return;
         }
-        // A weakly coupled matrix: Jacobi contracts by its ratio or better per iteration.
-        if wanted && off_diagonal_ratio(a) >= WEAK_COUPLING {
+        if wanted {
+            self.build_amg(a, options);
+        } else {
+            self.amg = None;
+        }
+        if self.amg.is_none() {
+            jacobi(a, rank_one, &mut self.inv_diag);
+        }
+    }
+
+    /// An AMG hierarchy for `a`, unless it is weakly coupled: Jacobi contracts by its ratio
+    /// or better per iteration (then none).
+    fn build_amg(&mut self, a: &CsMat<f64>, options: &SolverOptions) {
+        if off_diagonal_ratio(a) >= WEAK_COUPLING {
             let singular = options.null_space == NullSpace::Constant;
             self.amg = Some(Amg::setup(a, singular));
             self.amg_age = 0;
         } else {
             self.amg = None;
-            jacobi(a, rank_one, &mut self.inv_diag);
         }
     }
 

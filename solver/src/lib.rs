@@ -67,6 +67,9 @@ pub enum Preconditioner {
     /// One smoothed-aggregation AMG V-cycle ([`amg`]); the hierarchy is rebuilt when the
     /// matrix changes.
     Amg,
+    /// Jacobi, turning to AMG for the rest of a solve (and the next solves while its
+    /// hierarchy is fresh) once Jacobi has spent a budget of iterations.
+    Adaptive,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

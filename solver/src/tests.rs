@@ -406,3 +406,26 @@ fn amg_handles_the_constant_null_space() {
     assert!(error < 1e-5, "error {error}");
     assert!(iterations < jacobi, "AMG {iterations} vs Jacobi {jacobi}");
 }
+
+/// The adaptive preconditioner is Jacobi where Jacobi finishes within its budget of 40
+/// iterations (the same iterations, 10² unknowns) and turns to AMG where it does not (120²:
+/// at most the budget plus AMG's own ≤ 25, far below Jacobi's).
+#[test]
+fn adaptive_preconditioner_is_jacobi_until_jacobi_runs_long() {
+    let small = dirichlet_laplacian(10);
+    let (adaptive, error) = iterations_with(&small, Preconditioner::Adaptive, NullSpace::None);
+    let (jacobi, _) = iterations_with(&small, Preconditioner::Jacobi, NullSpace::None);
+    assert!(jacobi < 40, "Jacobi {jacobi} iterations on 10²");
+    assert_eq!(adaptive, jacobi);
+    assert!(error < 1e-4, "error {error}");
+    let large = dirichlet_laplacian(120);
+    let (adaptive, error) = iterations_with(&large, Preconditioner::Adaptive, NullSpace::None);
+    let (jacobi, _) = iterations_with(&large, Preconditioner::Jacobi, NullSpace::None);
+    eprintln!("120²: adaptive {adaptive}, Jacobi {jacobi} iterations");
+    assert!(adaptive <= 40 + 25, "adaptive {adaptive} iterations");
+    assert!(
+        3 * adaptive < jacobi,
+        "adaptive {adaptive} vs Jacobi {jacobi}"
+    );
+    assert!(error < 1e-4, "error {error}");
+}

@@ -138,14 +138,12 @@ pub enum ProjectionChoice {
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "kebab-case")]
 pub enum PreconditionerChoice {
-    /// AMG from [`AMG_PARTICLES`] particles, Jacobi below.
+    /// Jacobi, turning to AMG within a solve that Jacobi does not finish in 40 iterations
+    /// (see the README's speed section).
     Auto,
     Jacobi,
     Amg,
 }
-
-/// Particles from which `auto` takes the AMG preconditioner (see the README's speed section).
-pub const AMG_PARTICLES: usize = 4_000;
 
 /// The velocity gradient of the constitutive update (see
 /// [`crate::engine::kinematics::ConstitutiveGradient`]).

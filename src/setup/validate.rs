@@ -73,7 +73,7 @@ use crate::engine::weakly_compressible::{
 };
 use crate::setup::schema::{
     CaseFile, FluidSpec, GradientChoice, IntegratorChoice, MethodChoice, PreconditionerChoice,
-    ProjectionChoice, RunSpec, SchemeSpec, AMG_PARTICLES,
+    ProjectionChoice, RunSpec, SchemeSpec,
 };
 use rheosph_solver::Preconditioner;
 
@@ -356,10 +356,8 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
             warm_start: s.ppe_warm_start,
             solver: s.ppe_solver,
             preconditioner: match s.preconditioner {
-                PreconditionerChoice::Auto if scene.particles() >= AMG_PARTICLES => {
-                    Preconditioner::Amg
-                }
-                PreconditionerChoice::Auto | PreconditionerChoice::Jacobi => Preconditioner::Jacobi,
+                PreconditionerChoice::Auto => Preconditioner::Adaptive,
+                PreconditionerChoice::Jacobi => Preconditioner::Jacobi,
                 PreconditionerChoice::Amg => Preconditioner::Amg,
             },
         },
