@@ -98,9 +98,11 @@ fn run(
         progress: hook,
     };
     let summary = py
-        .detach(|| match &from_dir {
-            Some(dir) => runs::continue_from(&case, &options, dir),
-            None => runs::run(&case, &options),
+        .detach(|| {
+            runs::on_pool_worker(|| match &from_dir {
+                Some(dir) => runs::continue_from(&case, &options, dir),
+                None => runs::run(&case, &options),
+            })
         })
         .map_err(runtime_error)?;
     if let Some(e) = failure.lock().unwrap().take() {

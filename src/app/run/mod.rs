@@ -54,6 +54,18 @@ impl std::fmt::Debug for ProgressHook {
 pub const CASE_FILE: &str = "case.toml";
 pub use checkpoint::CHECKPOINT_FILE;
 
+/// Runs `f` on a thread of a new rayon pool (or here, on a thread of one already): every
+/// parallel loop of a step then starts from a worker, instead of handing its job to the pool
+/// and sleeping on a lock until it is done (measured at 900 particles: 455k → 538k
+/// particle-steps/s, system time 5.8 → 0.9 s in a 10 s run). The command line and the Python
+/// package run through it.
+pub fn on_pool_worker<T: Send>(f: impl FnOnce() -> Result<T> + Send) -> Result<T> {
+    if rayon::current_thread_index().is_some() {
+        return f();
+    }
+    rayon::ThreadPoolBuilder::new().build()?.install(f)
+}
+
 /// Runs a case to its end time or breakdown and writes the run directory.
 pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
     run_from(case, options, Start::Fresh)
