@@ -33,6 +33,8 @@ pub struct KernelSums {
     pub dv: f64,
     /// `F(r_ij) = W'(r)/r`, so that ∇W_ij = F r_ij.
     pub factor: Vec<f64>,
+    /// W(r_ij) (without volume ratios), for the operators that weigh by the kernel itself.
+    pub value: Vec<f64>,
     /// Corrected gradient ∇Ŵ_ij = L_i ∇W_ij.
     pub grad_hat: Vec<Vec2>,
     /// Bonet–Lok correction tensor L_i per fluid particle.
@@ -47,6 +49,7 @@ impl KernelSums {
     /// Heap bytes held.
     pub fn heap_bytes(&self) -> usize {
         crate::engine::vec_bytes(&self.factor)
+            + crate::engine::vec_bytes(&self.value)
             + crate::engine::vec_bytes(&self.grad_hat)
             + crate::engine::vec_bytes(&self.correction)
     }
@@ -69,10 +72,12 @@ impl KernelSums {
         self.dv = dv;
         let n = list.rows();
         self.factor.resize(list.pairs(), 0.0);
+        self.value.resize(list.pairs(), 0.0);
         self.grad_hat.resize(list.pairs(), Vec2::zeros());
         self.correction.resize(n, Mat2::identity());
         let offsets = &list.offsets;
         let factor = RowWriter::new(&mut self.factor);
+        let value = RowWriter::new(&mut self.value);
         let grad_hat = RowWriter::new(&mut self.grad_hat);
         // One pass per particle: its pairs' factors, L_i from them, then its ∇Ŵ_ij, while
         // the row is in cache.
@@ -81,16 +86,24 @@ impl KernelSums {
             .enumerate()
             .for_each(|(i, l)| {
                 // SAFETY: each task writes only row i of the CSR arrays.
-                let (factor, grad_hat) =
-                    unsafe { (factor.row(offsets, i), grad_hat.row(offsets, i)) };
+                let (factor, value, grad_hat) = unsafe {
+                    (
+                        factor.row(offsets, i),
+                        value.row(offsets, i),
+                        grad_hat.row(offsets, i),
+                    )
+                };
                 let (rij, index) = (&list.rij[list.range(i)], &list.index[list.range(i)]);
-                for ((f, r), &j) in factor.iter_mut().zip(rij).zip(index) {
+                let pairs = factor.iter_mut().zip(value.iter_mut()).zip(rij).zip(index);
+                for (((f, w), r), &j) in pairs {
                     let volume = if volumes.is_empty() {
                         1.0
                     } else {
                         volumes[j as usize]
                     };
-                    *f = kernel.gradient_factor(r.norm()) * volume;
+                    let (kernel_value, kernel_factor) = kernel.value_and_gradient_factor(r.norm());
+                    *w = kernel_value;
+                    *f = kernel_factor * volume;
                 }
                 // M_ab = Σ_j (r_ji)_a (∇W_ij)_b δV = −Σ_j F r_a r_b δV (symmetric).
                 let mut m = Mat2::zeros();

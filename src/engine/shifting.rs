@@ -154,7 +154,7 @@ pub fn concentration_gradient(
     out.par_iter_mut().enumerate().for_each(|(i, g)| {
         let mut acc = Vec2::zeros();
         for k in list.range(i) {
-            let ratio = kernel.value(list.rij[k].norm()) / w_ref;
+            let ratio = sums.value[k] / w_ref;
             let r2 = ratio * ratio;
             acc += (1.0 + CLUMP_WEIGHT * r2 * r2) * sums.grad_w(list, k);
         }

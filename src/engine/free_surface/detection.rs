@@ -97,7 +97,7 @@ impl FreeSurface {
                 for k in list.range(i) {
                     let r = list.rij[k];
                     let grad = sums.grad_w(list, k);
-                    sum_w += kernel.value(r.norm()) * dv;
+                    sum_w += sums.value[k] * dv;
                     // (r_j − r_i)·∇W_ij = −r_ij·∇W_ij.
                     sum_div -= r.dot(&grad) * dv;
                     sum_grad += grad * dv;
@@ -147,7 +147,7 @@ impl FreeSurface {
                 for k in list.range(i) {
                     let j = list.index[k] as usize;
                     if j < n {
-                        acc += raw[j] * (kernel.value(list.rij[k].norm()) * dv / c[j]);
+                        acc += raw[j] * (sums.value[k] * dv / c[j]);
                     }
                 }
                 let norm = acc.norm();
