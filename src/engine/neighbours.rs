@@ -492,15 +492,20 @@ mod tests {
         }
     }
 
+    /// The unit square, periodic in x (a channel's box).
+    fn unit_channel() -> Domain {
+        Domain {
+            min: Vec2::new(0.0, 0.0),
+            max: Vec2::new(1.0, 1.0),
+            periodic: [true, false],
+        }
+    }
+
     /// Candidates within support + skin, filtered after every point moved less than half the
     /// skin, give exactly the pairs within the support, each row sorted by index.
     #[test]
     fn filtered_candidates_match_brute_force_after_small_moves() {
-        let domain = Domain {
-            min: Vec2::new(0.0, 0.0),
-            max: Vec2::new(1.0, 1.0),
-            periodic: [true, false],
-        };
+        let domain = unit_channel();
         let (support, skin) = (0.13, 0.04);
         let pts = points(1500, &domain, 0.2);
         let n_rows = 1000;
@@ -530,11 +535,7 @@ mod tests {
 
     #[test]
     fn matches_brute_force_periodic_in_x() {
-        let domain = Domain {
-            min: Vec2::new(0.0, 0.0),
-            max: Vec2::new(1.0, 1.0),
-            periodic: [true, false],
-        };
+        let domain = unit_channel();
         check(domain, 0.13);
         // The smallest periodic box the search supports: exactly three cells.
         check(domain, 0.3333);
@@ -552,11 +553,7 @@ mod tests {
 
     #[test]
     fn wrap_and_min_image() {
-        let d = Domain {
-            min: Vec2::new(0.0, 0.0),
-            max: Vec2::new(1.0, 1.0),
-            periodic: [true, false],
-        };
+        let d = unit_channel();
         let w = d.wrap(Vec2::new(-0.25, 1.5));
         assert!((w.x - 0.75).abs() < 1e-15 && w.y == 1.5);
         let m = d.min_image(Vec2::new(0.9, 0.9));
