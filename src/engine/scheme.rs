@@ -32,6 +32,8 @@ pub struct Scheme {
     /// The factor 0.2 of the time-step rule (28).
     pub dt_factor: f64,
     pub viscosity: Viscosity,
+    /// Relative residual of the implicit viscous solves.
+    pub viscous_tolerance: f64,
     pub projection: Projection,
     pub ppe: PpeSettings,
     /// Periodically sort particles along a Morton curve for memory locality.

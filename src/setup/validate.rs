@@ -286,6 +286,13 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
         ));
     }
     let evss_alpha = in_range("scheme.evss_alpha", s.evss_alpha, 0.0, 1.0)?;
+    let viscous_tolerance = s.viscous_tolerance;
+    if !(viscous_tolerance > 0.0 && viscous_tolerance <= 1e-2) {
+        return Err(field_err(
+            "scheme.viscous_tolerance",
+            format!("must be in (0, 1e-2], got {viscous_tolerance}"),
+        ));
+    }
     let neighbour_skin = s
         .neighbour_skin
         .map(|v| in_range("scheme.neighbour_skin", v, 0.0, 4.0))
@@ -363,6 +370,7 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
         },
         reorder: s.reorder,
         neighbour_skin,
+        viscous_tolerance,
         wall_conformation: s.wall_conformation,
         wall_model: s.wall_model,
         free_surface_pressure: s.free_surface_pressure,

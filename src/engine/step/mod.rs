@@ -166,7 +166,7 @@ impl Simulation {
                     form,
                 )
             }),
-            viscous: scheme.viscosity.stage(),
+            viscous: scheme.viscosity.stage(scheme.viscous_tolerance),
             shear_viscosity: (!fluid.law.is_constant())
                 .then(|| ShearDependentViscosity::new(fluid.law, fluid.viscosity)),
             nu: scheme.viscosity_nu(&fluid),

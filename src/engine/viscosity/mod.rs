@@ -153,24 +153,25 @@ impl Viscosity {
         .min(capillary_limit(fluid.density, fluid.surface_tension, d.h))
     }
 
-    /// The stage that integrates the term.
-    pub fn stage(self) -> ViscousStage {
+    /// The stage that integrates the term; its implicit solves stop at the relative residual
+    /// `tolerance`.
+    pub fn stage(self, tolerance: f64) -> ViscousStage {
         ViscousStage {
             theta: self.theta(),
+            tolerance,
             laplacian: Vec::new(),
             implicit: self.is_implicit().then(Box::default),
         }
     }
 }
 
-/// Relative residual of the implicit viscous solves: well below the O(δt) splitting error.
-const VISCOUS_TOLERANCE: f64 = 1e-10;
-
 /// The viscous part of step 4 with its buffers: the θ-scheme
 /// u* = … + δt ν [(1 − θ)∇²u^n + θ∇²u*].
 pub struct ViscousStage {
     /// The weight of the new level ([`Viscosity::theta`]).
     theta: f64,
+    /// Relative residual at which the implicit solves stop (`scheme.viscous_tolerance`).
+    tolerance: f64,
     /// ∇²u^n of the explicit part (θ < 1).
     laplacian: Vec<Vec2>,
     /// The solve of the implicit part (θ > 0).
@@ -227,7 +228,7 @@ impl ViscousStage {
         (prescribed, value): (&[bool], Vec2),
         preconditioner: rheosph_solver::Preconditioner,
     ) -> Result<Option<[SolveReport; 2]>, SolveError> {
-        let theta = self.theta;
+        let (theta, tolerance) = (self.theta, self.tolerance);
         let Some(m) = self.implicit.as_mut() else {
             return Ok(None);
         };
@@ -242,7 +243,7 @@ impl ViscousStage {
             warm_start,
             velocity,
             prescribed,
-            (VISCOUS_TOLERANCE, preconditioner),
+            (tolerance, preconditioner),
         )
         .map(Some)
     }
