@@ -85,11 +85,6 @@ impl Neighbourhood {
         self.invalidate();
     }
 
-    /// The skin.
-    pub fn skin(&self) -> f64 {
-        self.skin
-    }
-
     /// Cell searches run so far (a step that reuses the candidates runs none).
     pub fn searches(&self) -> usize {
         self.searches
@@ -132,8 +127,9 @@ impl Neighbourhood {
         }
         self.ghosts.domain = Some(*domain);
         let support = kernel.support();
-        if self.skin == 0.0 {
-            // No skin: the cell search every step, rows in its cell order.
+        if self.skin == 0.0 || !self.ghosts.can_refresh() {
+            // No skin (or ghosts a search must place anew, the fixed lattice's): the cell
+            // search every step, rows in its cell order.
             self.cell_search(domain, n, support, false);
         } else {
             if !self.candidates_hold(domain, n) {
@@ -179,7 +175,7 @@ impl Neighbourhood {
     /// and says whether its candidates still hold: the same particles, no point and no wall
     /// moved more than half the skin since.
     fn candidates_hold(&mut self, domain: &Domain, n: usize) -> bool {
-        if !self.candidates_valid || self.candidates.rows() != n || !self.ghosts.can_refresh() {
+        if !self.candidates_valid || self.candidates.rows() != n {
             return false;
         }
         self.ghosts.refresh(&mut self.points);
