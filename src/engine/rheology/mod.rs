@@ -137,23 +137,31 @@ mod tests {
     /// λ of [`shear_start_up_error`].
     const SHEAR_LAMBDA: f64 = 1.0;
 
+    /// The relative errors of the log (`true`) and direct (`false`) updates `step` at 400 and
+    /// 800 steps of the shear start-up, and the observed order between them.
+    fn start_up_errors_and_order(
+        log: bool,
+        step: impl Fn(bool, &Sym2, &Mat2, f64) -> Sym2,
+    ) -> (f64, f64, f64) {
+        let run = |steps: usize| shear_start_up_error(steps, |a, grad, dt| step(log, a, grad, dt));
+        let (e1, e2) = (run(400), run(800));
+        (e1, e2, (e1 / e2).log2())
+    }
+
     /// Both of the paper's integrators converge to the shear start-up at first order in δt
     /// (splitting error).
     #[test]
     fn integrators_converge_to_simple_shear_start_up() {
         let m = Model::OldroydB;
-        let run = |steps: usize, log: bool| {
-            shear_start_up_error(steps, |a, grad, dt| {
-                if log {
-                    log_conformation_step(&m, a, &a.log(), &Sym2::ZERO, grad, dt, SHEAR_LAMBDA)
-                } else {
-                    direct_step(&m, a, &Sym2::ZERO, grad, dt, SHEAR_LAMBDA)
-                }
-            })
+        let step = |log: bool, a: &Sym2, grad: &Mat2, dt: f64| {
+            if log {
+                log_conformation_step(&m, a, &a.log(), &Sym2::ZERO, grad, dt, SHEAR_LAMBDA)
+            } else {
+                direct_step(&m, a, &Sym2::ZERO, grad, dt, SHEAR_LAMBDA)
+            }
         };
         for log in [true, false] {
-            let (e1, e2) = (run(400, log), run(800, log));
-            let order = (e1 / e2).log2();
+            let (_, e2, order) = start_up_errors_and_order(log, step);
             // δt = 2.5e-3 with first-order splitting: a few 1e-3 relative error.
             assert!(e2 < 5e-3, "log={log}: relative error {e2}");
             assert!((order - 1.0).abs() < 0.15, "log={log}: order {order}");
@@ -167,18 +175,15 @@ mod tests {
     #[test]
     fn strang_integrators_are_second_order_in_simple_shear_start_up() {
         let m = Model::OldroydB;
-        let run = |steps: usize, log: bool| {
-            shear_start_up_error(steps, |a, grad, dt| {
-                if log {
-                    log_conformation_step_strang(&m, a, &Sym2::ZERO, grad, dt, SHEAR_LAMBDA)
-                } else {
-                    direct_step_strang(&m, a, &Sym2::ZERO, grad, dt, SHEAR_LAMBDA)
-                }
-            })
+        let step = |log: bool, a: &Sym2, grad: &Mat2, dt: f64| {
+            if log {
+                log_conformation_step_strang(&m, a, &Sym2::ZERO, grad, dt, SHEAR_LAMBDA)
+            } else {
+                direct_step_strang(&m, a, &Sym2::ZERO, grad, dt, SHEAR_LAMBDA)
+            }
         };
         for log in [true, false] {
-            let (e1, e2) = (run(400, log), run(800, log));
-            let order = (e1 / e2).log2();
+            let (e1, _, order) = start_up_errors_and_order(log, step);
             assert!(e1 < 2e-5, "log={log}: relative error {e1}");
             assert!((order - 2.0).abs() < 0.15, "log={log}: order {order}");
         }
