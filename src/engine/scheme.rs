@@ -25,6 +25,8 @@ pub struct Scheme {
     pub conformation_integrator: ConformationIntegrator,
     /// The velocity gradient the constitutive update sees.
     pub constitutive_gradient: ConstitutiveGradient,
+    /// The ALE remap of the conformation: central (the paper's) or limited.
+    pub conformation_remap: crate::engine::rheology::Remap,
     /// Fickian shifting in the Lagrangian frame.
     pub shifting: bool,
     /// α_V of the EVSS splitting, eqs. (6)–(8).

@@ -6,7 +6,7 @@
 use crate::engine::boundary::{TensorMirror, WallModel};
 use crate::engine::frame::Frame;
 use crate::engine::free_surface::SurfacePressure;
-use crate::engine::rheology::ConformationScheme;
+use crate::engine::rheology::{ConformationScheme, Remap};
 use crate::engine::scheme::PpeSolver;
 use crate::engine::viscosity::Viscosity;
 use crate::setup::error::{field_err, read_table, FieldError};
@@ -210,6 +210,9 @@ pub struct SchemeSpec {
     /// The velocity gradient of the constitutive update: `auto`, `solenoidal`,
     /// `wall-normal-even` or `raw` (see `engine::kinematics`).
     pub constitutive_gradient: GradientChoice,
+    /// The ALE remap u_ps·∇Ψ of the conformation: `limited` (default; never leaves the
+    /// neighbours' range) or `central` (the paper's; see `engine::rheology::remap`).
+    pub conformation_remap: Remap,
     /// Fickian shifting (with `wcsph` the density is then carried by the ALE term u_ps·∇ρ).
     /// On by default for both methods: without it the weakly compressible channel breaks
     /// down by t ≈ 1 (README); Fang et al.'s drop, which had none, sets it off.
@@ -271,6 +274,7 @@ impl Default for SchemeSpec {
             conformation: ConformationScheme::Log,
             conformation_integrator: IntegratorChoice::Auto,
             constitutive_gradient: GradientChoice::Auto,
+            conformation_remap: Remap::Limited,
             shifting: true,
             evss_alpha: 0.0,
             dt_factor: 0.2,

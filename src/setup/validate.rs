@@ -333,6 +333,7 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
             GradientChoice::Raw => ConstitutiveGradient::Raw,
             GradientChoice::WallNormalEven => ConstitutiveGradient::WallNormalEven,
         },
+        conformation_remap: s.conformation_remap,
         shifting: s.shifting,
         evss_alpha,
         dt_factor: s.dt_factor,

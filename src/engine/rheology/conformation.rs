@@ -3,6 +3,7 @@
 //! EVSS tensor Φ = τ_p − α_V η0 2D of eq. (6) and its divergence for the predictor, in the
 //! form of (20) the scene needs (negative in closed domains, positive with free surfaces).
 
+use super::remap::{limit_increments, Remap};
 use super::{
     direct_step, direct_step_strang, log_conformation_step, log_conformation_step_strang, Fluid,
     Model,
@@ -51,6 +52,7 @@ type DirectStep = fn(&Model, &Sym2, &Sym2, &Mat2, f64, f64) -> Sym2;
 pub struct ConformationStage {
     pub scheme: ConformationScheme,
     integrator: ConformationIntegrator,
+    remap: Remap,
     /// α_V η0 of eq. (6).
     evss: f64,
     form: DivergenceForm,
@@ -64,7 +66,7 @@ pub struct ConformationStage {
 impl ConformationStage {
     /// The stage for `fluid` with EVSS weight α_V; `form` of the divergence (20).
     pub fn new(
-        (scheme, integrator): (ConformationScheme, ConformationIntegrator),
+        (scheme, integrator, remap): (ConformationScheme, ConformationIntegrator, Remap),
         fluid: &Fluid,
         evss_alpha: f64,
         form: DivergenceForm,
@@ -72,6 +74,7 @@ impl ConformationStage {
         Self {
             scheme,
             integrator,
+            remap,
             evss: evss_alpha * fluid.viscosity,
             form,
             log_conformation: Vec::new(),
@@ -132,7 +135,7 @@ impl ConformationStage {
         (grad_u, u_ps): (&[Mat2], &[Vec2]),
         conformation: &mut [Sym2],
     ) {
-        let (list, sums, ghosts) = hood;
+        let ghosts = hood.2;
         let n = conformation.len();
         let lambda = fluid.relaxation_time;
         let model = fluid.model;
@@ -145,7 +148,7 @@ impl ConformationStage {
                     .zip(conformation.par_iter())
                     .for_each(|(psi, a)| *psi = a.log());
                 ghosts.extend_tensor(&self.log_conformation, &mut self.tensor_ext);
-                sums.advective_tensor(list, &self.tensor_ext, u_ps, &mut self.advection);
+                self.remap_rate(hood, u_ps, dt);
                 let (psi, adv) = (&self.log_conformation, &self.advection);
                 let step: LogStep = match self.integrator {
                     ConformationIntegrator::Euler => log_conformation_step,
@@ -159,7 +162,7 @@ impl ConformationStage {
             }
             ConformationScheme::Direct => {
                 ghosts.extend_tensor(conformation, &mut self.tensor_ext);
-                sums.advective_tensor(list, &self.tensor_ext, u_ps, &mut self.advection);
+                self.remap_rate(hood, u_ps, dt);
                 let adv = &self.advection;
                 let step: DirectStep = match self.integrator {
                     ConformationIntegrator::Euler => direct_step,
@@ -169,6 +172,20 @@ impl ConformationStage {
                     *a = step(&model, a, &adv[i], &grad_u[i], dt, lambda);
                 });
             }
+        }
+    }
+
+    /// The remap rate u_ps·∇T of the tensor T in `tensor_ext` (Ψ or A with the ghosts'), into
+    /// `advection`, limited by [`Remap`] over `dt`.
+    fn remap_rate(
+        &mut self,
+        (list, sums, _): (&NeighbourList, &KernelSums, &Ghosts),
+        u_ps: &[Vec2],
+        dt: f64,
+    ) {
+        sums.advective_tensor(list, &self.tensor_ext, u_ps, &mut self.advection);
+        if self.remap == Remap::Limited {
+            limit_increments(list, &self.tensor_ext, dt, &mut self.advection);
         }
     }
 

@@ -8,6 +8,7 @@ pub mod direct;
 pub mod generalised_newtonian;
 pub mod log_conformation;
 pub mod models;
+pub mod remap;
 
 use crate::engine::math::Sym2;
 pub use conformation::{ConformationIntegrator, ConformationScheme, ConformationStage};
@@ -20,6 +21,7 @@ pub use models::{
     Constitutive, ExponentialPtt, FeneCr, FeneP, Giesekus, LinearPtt, Model, ModelEntry, OldroydB,
     Solvent, MODELS,
 };
+pub use remap::Remap;
 
 /// Material constants of the fluid.
 #[derive(Clone, Copy, Debug, PartialEq)]

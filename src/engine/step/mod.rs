@@ -160,7 +160,11 @@ impl Simulation {
             }),
             conformation: viscoelastic.then(|| {
                 ConformationStage::new(
-                    (scheme.conformation, scheme.conformation_integrator),
+                    (
+                        scheme.conformation,
+                        scheme.conformation_integrator,
+                        scheme.conformation_remap,
+                    ),
                     &fluid,
                     scheme.evss_alpha,
                     form,
