@@ -53,6 +53,8 @@ pub struct ConformationStage {
     pub scheme: ConformationScheme,
     integrator: ConformationIntegrator,
     remap: Remap,
+    /// L² of a FENE model: tr A < L² is checked after every step.
+    extensibility: Option<f64>,
     /// α_V η0 of eq. (6).
     evss: f64,
     form: DivergenceForm,
@@ -75,6 +77,7 @@ impl ConformationStage {
             scheme,
             integrator,
             remap,
+            extensibility: fluid.model.extensibility(),
             evss: evss_alpha * fluid.viscosity,
             form,
             log_conformation: Vec::new(),
@@ -227,6 +230,14 @@ impl ConformationStage {
                 .any(|a| a.det() <= 0.0 || a.trace() <= 0.0)
         {
             return Err("conformation tensor lost positive definiteness".into());
+        }
+        if let Some(l2) = self.extensibility {
+            if let Some(a) = conformation.par_iter().find_any(|a| a.trace() >= l2) {
+                return Err(format!(
+                    "tr A = {:.4e} reached the extensibility L² = {l2}: the chains are longer than fully extended",
+                    a.trace()
+                ));
+            }
         }
         Ok(())
     }

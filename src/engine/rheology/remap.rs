@@ -100,7 +100,11 @@ mod tests {
 
     #[test]
     fn an_increment_inside_the_range_is_kept_bit_for_bit() {
-        let ext = [diag(1.0), Sym2::new(0.0, -0.5, 0.0), Sym2::new(2.0, 0.5, 2.0)];
+        let ext = [
+            diag(1.0),
+            Sym2::new(0.0, -0.5, 0.0),
+            Sym2::new(2.0, 0.5, 2.0),
+        ];
         let mut rate = [Sym2::new(0.3, -0.1, 0.2), Sym2::ZERO, Sym2::ZERO];
         let before = rate[0];
         limit_increments(&list(&[&[1, 2], &[0], &[0]]), &ext, 1.0, &mut rate);

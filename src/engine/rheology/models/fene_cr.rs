@@ -22,6 +22,9 @@ impl Constitutive for FeneCr {
     fn relaxation(&self, a: &Sym2) -> Sym2 {
         self.strain(a)
     }
+    fn extensibility(&self) -> Option<f64> {
+        Some(self.l2)
+    }
     fn relaxation_coefficients(&self, a: &Sym2) -> Option<(f64, f64)> {
         Some((self.peterlin(a), 1.0))
     }

@@ -24,6 +24,9 @@ impl Constitutive for FeneP {
     fn relaxation(&self, a: &Sym2) -> Sym2 {
         self.strain(a)
     }
+    fn extensibility(&self) -> Option<f64> {
+        Some(self.l2)
+    }
     fn relaxation_coefficients(&self, a: &Sym2) -> Option<(f64, f64)> {
         Some((1.0, self.peterlin(a)))
     }

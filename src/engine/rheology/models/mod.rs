@@ -40,6 +40,10 @@ pub trait Constitutive {
     fn relaxation(&self, a: &Sym2) -> Sym2;
     /// `(α_R, β_R)` with f_R = α_R(β_R A − I), or `None` (then the source step is (33)).
     fn relaxation_coefficients(&self, a: &Sym2) -> Option<(f64, f64)>;
+    /// L², the bound tr A < L² of a finitely extensible model (FENE), or `None`.
+    fn extensibility(&self) -> Option<f64> {
+        None
+    }
     /// The conformation of the fluid at rest, f_R(A) = 0 (I for all but FENE-P).
     fn rest_conformation(&self) -> Sym2 {
         Sym2::IDENTITY
@@ -177,6 +181,11 @@ impl Model {
     pub fn relaxation_coefficients(&self, a: &Sym2) -> Option<(f64, f64)> {
         self.constitutive()
             .and_then(|m| m.relaxation_coefficients(a))
+    }
+
+    /// L² of a finitely extensible model (see [`Constitutive::extensibility`]).
+    pub fn extensibility(&self) -> Option<f64> {
+        self.constitutive().and_then(|m| m.extensibility())
     }
 
     /// Conformation of the fluid at rest.
