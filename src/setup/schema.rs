@@ -320,8 +320,9 @@ pub struct RunSpec {
     pub steady: Option<SteadySpec>,
 }
 
-/// `[run.steady]`: ⟨u⟩ varying by less than `tolerance` (relative) over `window` time units,
-/// then averages over `average` time units (King & Lind: 2 % over 1, then 3).
+/// `[run.steady]`: ⟨u⟩ (or, with the mean flow held, the body force) varying by less than
+/// `tolerance` (relative) over `window` time units, but never fewer than the relaxation time
+/// λ, then averages over `average` time units (King & Lind: 2 % over 1, then 3).
 #[derive(Clone, Debug, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SteadySpec {
