@@ -242,3 +242,42 @@ impl ConformationStage {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::engine::rheology::{FeneCr, ViscosityLaw};
+
+    /// tr A < L² is a FENE invariant the step checks: a conformation at L² stops the run
+    /// with the reason, one just below it does not, and Oldroyd-B has no such bound.
+    #[test]
+    fn a_fene_conformation_at_its_extensibility_is_reported() {
+        let fluid = |model| Fluid {
+            model,
+            density: 1.0,
+            viscosity: 1.0,
+            beta: 0.5,
+            relaxation_time: 1.0,
+            surface_tension: 0.0,
+            law: ViscosityLaw::Constant,
+        };
+        let stage = |model| {
+            ConformationStage::new(
+                (
+                    ConformationScheme::Log,
+                    ConformationIntegrator::Euler,
+                    Remap::Limited,
+                ),
+                &fluid(model),
+                0.0,
+                DivergenceForm::Negative,
+            )
+        };
+        let fene = stage(Model::FeneCr(FeneCr { l2: 10.0 }));
+        let at_bound = [Sym2::IDENTITY, Sym2::new(6.0, 1.0, 4.0)];
+        let reason = fene.check(&at_bound).unwrap_err();
+        assert!(reason.contains("L² = 10"), "{reason}");
+        assert!(fene.check(&[Sym2::new(6.0, 1.0, 3.99)]).is_ok());
+        assert!(stage(Model::OldroydB).check(&at_bound).is_ok());
+    }
+}
