@@ -35,6 +35,10 @@ pub enum Remap {
     Limited,
 }
 
+/// Increments below this fraction of the tensor's size are round-off and are not limited
+/// (they can move tr Ψ, hence det A, by no more than that).
+const ROUND_OFF: f64 = 1e-12;
+
 /// The components a limited remap keeps in range: Ψ_xx, Ψ_xy, Ψ_yy and tr Ψ (= ln det A).
 fn components(t: &Sym2) -> [f64; 4] {
     [t.xx, t.xy, t.yy, t.xx + t.yy]
@@ -67,7 +71,12 @@ pub fn limit_increments(list: &NeighbourList, ext: &[Sym2], dt: f64, rate: &mut 
             }
         }
         let step = components(&(*r * dt));
+        // A component whose increment is at round-off level (e.g. Ψ_xy on a channel's
+        // centre-line, where the range is round-off too) does not limit the others: the
+        // ratio of two round-off numbers would switch them on and off at random.
+        let negligible = ROUND_OFF * (1.0 + own.iter().fold(0.0_f64, |m, v| m.max(v.abs())));
         let phi = (0..4)
+            .filter(|&q| step[q].abs() > negligible)
             .map(|q| limit(own[q], step[q], low[q], high[q]))
             .fold(1.0, f64::min);
         if phi < 1.0 {
