@@ -5,11 +5,10 @@
 //! The paper evaluates it with the corrected gradient (20), a central first-order Taylor
 //! extrapolation. Where the tensor has a sharp minimum that extrapolation can leave the range
 //! of the values around it: measured at P2 (cylinder array, R/δr = 36, Wi = 0.8, ⟨u⟩ held at
-//! 1), the particle sitting at the front stagnation point, 0.46δr from the cylinder, held still
-//! by a shift of 0.005δr a step towards the wall against an equal outflow, was the minimum of
-//! its neighbourhood (tr Ψ ≈ 0, neighbours up to 2.7 along the stretched boundary layer)
-//! and still lost 2.8·10⁻³ of tr Ψ = ln det A every step to the remap, step after step: det A
-//! fell to 0.84 while the rest of the update keeps it ≥ 1 by construction (a traceless
+//! 1), the particle at the front stagnation point, 0.46δr from the cylinder, shifted by
+//! 0.005δr a step towards the wall, was the minimum of its neighbourhood (tr Ψ ≈ 0; det A 4
+//! at 1.4δr and 13 at 2δr, the stagnation point's stress layer) and still lost 2.8·10⁻³ of
+//! tr Ψ = ln det A every step to the remap, step after step: det A fell to 0.86 while the rest of the update keeps it ≥ 1 by construction (a traceless
 //! gradient, the relaxation a convex combination with I).
 //!
 //! [`Remap::Limited`] (default) scales each particle's increment by the largest φ ∈ [0, 1]
