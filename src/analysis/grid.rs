@@ -97,7 +97,11 @@ pub fn particle_fields(sim: &Simulation) -> Vec<(&'static str, Vec<f64>)> {
 
 /// The state of `sim` on nodes about `target_spacing` apart.
 pub fn interpolate(sim: &Simulation, target_spacing: f64) -> GridFields {
-    let spec = GridSpec::covering(&sim.domain, target_spacing);
+    interpolate_on(sim, GridSpec::covering(&sim.domain, target_spacing))
+}
+
+/// The state of `sim` on the nodes of `spec` (a line of nodes is a 1 × n grid).
+pub fn interpolate_on(sim: &Simulation, spec: GridSpec) -> GridFields {
     let fields = particle_fields(sim);
     let values: Vec<&[f64]> = fields.iter().map(|(_, v)| v.as_slice()).collect();
     let cells = Cells::new(&sim.domain, &sim.state.position, sim.kernel.support());

@@ -3,6 +3,7 @@
 pub mod roots;
 pub mod startup_couette;
 pub mod steady_channel;
+pub mod stokes_cavity;
 pub mod taylor_green;
 pub mod waters_king;
 

@@ -6,12 +6,15 @@
 //! conditions; then the load of the new fluid state ([`traction`]) advances them,
 //!
 //!   (I + δt k_Ω)(Ω^{n+1} − Ω^n)/δt = T,
-//!   (m + m_a + δt k_V)(V^{n+1} − V^n)/δt = F + m g + m_a a^n,   c^{n+1} = c^n + δt V^{n+1},
+//!   (m + m_a + δt k_V)(V^{n+1} − V^n)/δt = F + m g + (m − m_f) g_s + m_a a^n,
+//!   c^{n+1} = c^n + δt V^{n+1},
 //!
 //! with m = ρ_s πR², I = ½mR², g the scene's body force (acting on the disc's mass as on the
 //! fluid's: the projection's pressure carries no hydrostatic part of a periodic body force;
-//! what the pressure balances it carries, and F includes that), and a^n the previous step's
-//! acceleration. The k and m_a terms vanish at a steady state and keep the explicit coupling
+//! what the pressure balances it carries, and F includes that), g_s gravity for
+//! sedimentation, whose hydrostatic part ρ_f g_s is left out of the fluid's pressure (so it
+//! acts on the disc's buoyant mass m − m_f, m_f = ρ_f πR², and not on the fluid), and a^n the
+//! previous step's acceleration. The k and m_a terms vanish at a steady state and keep the explicit coupling
 //! stable: the load responds within one step to the disc's own velocity, through the first
 //! particle layer (the mirrors carry 2u_w), by ΔT ≈ −k_Ω ΔΩ and ΔF ≈ −k_V ΔV with
 //! k_Ω = 2πη R³/δr, k_V = 2πη R/δr (η = η_s + Gδt, the solvent and the polymer's elastic
@@ -20,6 +23,9 @@
 //! rotating disc of `cases/disc-in-shear.toml` flipped its spin every step (δt k_Ω/I = 2.1 > 2).
 //! m_a = ρ_f πR² is the added mass of a circle (potential flow), the classic instability of
 //! explicit coupling for light bodies; free discs are kept to ρ_s ≥ ρ_f.
+//!
+//! Under g_s the discs settle as in a closed container: [`Bodies::hold_return_flow`] keeps
+//! the net volume flux along the periodic axis at zero (module docs there).
 
 pub mod contact;
 pub mod traction;
@@ -81,8 +87,13 @@ pub struct Coupling {
 }
 
 impl Disc {
+    /// πR².
+    pub fn area(&self) -> f64 {
+        std::f64::consts::PI * self.circle.radius.powi(2)
+    }
+
     pub fn mass(&self) -> f64 {
-        self.density * std::f64::consts::PI * self.circle.radius.powi(2)
+        self.density * self.area()
     }
 
     /// I = ½ m R² about the centre.
@@ -117,14 +128,33 @@ impl Disc {
         }
     }
 
+    /// The disc where the step's fluid is: c^n + δt V^n, as Step 1 moves the particles to
+    /// r* = r^n + δt u^n (eq. (23)). Its walls and its load are taken there; built at c^n
+    /// instead, the particles moving with a settling disc met it δt V closer in front and
+    /// farther behind, and the terminal velocity carried an O(δt) error (−0.183, −0.162,
+    /// −0.149 at δt = 0.13, 0.065, 0.0325 in `cases/disc-sedimentation.toml`, Newtonian).
+    pub fn ahead(&self, dt: f64, domain: Option<&Domain>) -> Disc {
+        let mut d = *self;
+        let c = self.circle.centre + dt * self.velocity;
+        d.circle.centre = domain.map_or(c, |b| b.wrap(c));
+        d
+    }
+
     /// u_w at a surface point.
     pub fn surface_velocity(&self, x: Vec2) -> Vec2 {
         self.condition(TensorMirror::Even).surface_velocity(x)
     }
 
-    /// Advances V, Ω and c over one step under `load`, a contact force and the body force
-    /// `g` (module docs).
-    fn advance(&mut self, load: &Load, contact: Vec2, g: Vec2, c: &Coupling) {
+    /// Advances V, Ω and c over one step under `load`, a contact force, the body force `g`,
+    /// the sedimentation gravity `gs` and the return flow's pressure gradient `grad`
+    /// (x component; module docs).
+    fn advance(
+        &mut self,
+        load: &Load,
+        contact: Vec2,
+        (g, gs, grad): (Vec2, Vec2, f64),
+        c: &Coupling,
+    ) {
         let (r, dt) = (self.circle.radius, c.dt);
         let k = 2.0 * std::f64::consts::PI * c.response_viscosity / c.spacing;
         let spin = |d: &Self| d.spin + dt * load.torque() / (d.inertia() + dt * k * r.powi(3));
@@ -134,14 +164,21 @@ impl Disc {
             Motion::Free => {
                 self.spin = spin(self);
                 let added = c.fluid_density * std::f64::consts::PI * r * r;
-                let force =
-                    load.force.total() + contact + self.mass() * g + added * self.acceleration;
+                let buoyant = self.mass() - added;
+                let force = load.force.total()
+                    + contact
+                    + self.mass() * g
+                    + buoyant * gs
+                    + Vec2::new(-self.area() * grad, 0.0)
+                    + added * self.acceleration;
                 let dv = dt * force / (self.mass() + added + dt * k * r);
                 self.acceleration = dv / dt;
                 self.velocity += dv;
             }
         }
-        self.circle.centre = c.domain.wrap(self.circle.centre + dt * self.velocity);
+        // Eq. (27)'s trapezoid, as the particles move.
+        let mean = self.velocity - 0.5 * dt * self.acceleration;
+        self.circle.centre = c.domain.wrap(self.circle.centre + dt * mean);
     }
 }
 
@@ -157,14 +194,19 @@ pub struct Bodies {
     pub contact_forces: Vec<Vec2>,
     /// The short-range repulsion, if switched on.
     pub contact: Option<Contact>,
+    /// g_s: gravity on the discs' buoyant mass (sedimentation; module docs).
+    pub gravity: Vec2,
+    /// The fluid's own body force (the scene's, constant under g_s): what the state's body
+    /// force is besides the return flow's −G/ρ_f, so that G needs no state of its own.
+    base_force: Vec2,
     tensor: TensorMirror,
 }
 
 impl Bodies {
     /// Appends the discs' walls to `walls`.
     pub fn new(
-        discs: Vec<Disc>,
-        contact: Option<Contact>,
+        (discs, contact, gravity): (Vec<Disc>, Option<Contact>, Vec2),
+        base_force: Vec2,
         tensor: TensorMirror,
         walls: &mut Vec<Wall>,
     ) -> Self {
@@ -175,6 +217,8 @@ impl Bodies {
             loads: vec![Load::default(); discs.len()],
             contact_forces: vec![Vec2::zeros(); discs.len()],
             contact,
+            gravity,
+            base_force,
             discs,
             tensor,
         }
@@ -191,15 +235,60 @@ impl Bodies {
             .any(|d| d.motion != Motion::Prescribed || d.velocity != Vec2::zeros())
     }
 
-    /// Puts the discs' current positions and velocities into their walls.
-    pub fn apply(&self, ghosts: &mut Ghosts) {
+    /// Puts the discs' walls where the step of `dt` finds the fluid ([`Disc::ahead`]).
+    pub fn apply(&self, ghosts: &mut Ghosts, dt: f64) {
+        let domain = ghosts.domain;
         for (d, &k) in self.discs.iter().zip(&self.walls) {
-            ghosts.set_wall(k, d.wall(self.tensor));
+            ghosts.set_wall(k, d.ahead(dt, domain.as_ref()).wall(self.tensor));
         }
     }
 
-    /// The loads of the fluid state in `view`, then the discs' motion over one step.
+    /// Sedimentation in a closed container: the fluid a settling disc displaces flows back
+    /// past it, the net volume flux Q = Σ_f u_x δV + Σ_d V_x πR² through a cross-section
+    /// being zero. A periodic channel has no ends to force that: its pressure is periodic,
+    /// and the walls alone would let the disc entrain the whole column until their friction
+    /// carried its weight. The missing part is the uniform pressure gradient G of the
+    /// container's length, held here as a constraint. The fluid feels it as the body force
+    /// −G/ρ_f in the predictor, the discs as −πR²G on their volume ([`Disc::advance`]).
+    /// After each step the flux left, Q, is removed by the uniform velocity change
+    /// δu = −Q/Σ_f δV (which keeps u divergence-free), and the impulse ρ_f δu joins G for
+    /// the next step. At a steady state δu → 0 and the splitting is exact; applied as an
+    /// impulse alone, after the viscous solve, G left the walls a slip of G δt/ρ each step
+    /// and the terminal velocity an O(δt) error. G lives in the fluid's body force `g`
+    /// ([`Self::return_gradient`]); returns that force with the new G. Applied only when
+    /// g_s ≠ 0.
+    pub fn hold_return_flow(
+        &mut self,
+        (velocity, particle_volume): (&mut [Vec2], f64),
+        rho_f: f64,
+        g: Vec2,
+        dt: f64,
+    ) -> Vec2 {
+        if self.gravity == Vec2::zeros() {
+            return g;
+        }
+        let fluid_flux =
+            crate::engine::reduce::blocked_sum(velocity.len(), |i| velocity[i].x) * particle_volume;
+        let disc_flux: f64 = self.discs.iter().map(|d| d.velocity.x * d.area()).sum();
+        let du = (fluid_flux + disc_flux) / (velocity.len() as f64 * particle_volume);
+        velocity.iter_mut().for_each(|u| u.x -= du);
+        let gradient = self.return_gradient(g, rho_f) + rho_f * du / dt;
+        self.base_force - Vec2::new(gradient / rho_f, 0.0)
+    }
+
+    /// G, the return flow's pressure gradient in the fluid's body force `g` (0 without g_s).
+    pub fn return_gradient(&self, g: Vec2, rho_f: f64) -> f64 {
+        if self.gravity == Vec2::zeros() {
+            return 0.0;
+        }
+        rho_f * (self.base_force.x - g.x)
+    }
+
+    /// The loads of the fluid state in `view`, then the discs' motion over one step under
+    /// the fluid's body force `g` (with the return flow's part in it).
     pub fn advance(&mut self, view: FluidView, g: Vec2, coupling: &Coupling) {
+        let gradient = self.return_gradient(g, coupling.fluid_density);
+        let g_own = g + Vec2::new(gradient / coupling.fluid_density, 0.0);
         if let Some(contact) = &self.contact {
             self.contact_forces = contact.forces(&self.discs, &coupling.domain);
         }
@@ -210,14 +299,14 @@ impl Bodies {
             .zip(self.loads.iter_mut())
             .zip(contacts)
         {
-            let disc = *d;
+            let disc = d.ahead(coupling.dt, Some(&coupling.domain));
             *load = traction::on_circle(
                 view,
                 &disc.circle,
                 &|x| disc.surface_velocity(x),
                 TRACTION_SAMPLES,
             );
-            d.advance(load, contact, g, coupling);
+            d.advance(load, contact, (g_own, self.gravity, gradient), coupling);
         }
     }
 }

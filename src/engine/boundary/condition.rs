@@ -155,3 +155,96 @@ impl WallCondition for RigidNoSlip {
         .tensor(parent, normal)
     }
 }
+
+/// The condition of a [`super::shape::Corner`]'s point-reflected ghost: the mirror across
+/// wall `second` of the mirror across wall `first`. With `u_a = s₁u_i + b₁(x_a)` on the first
+/// mirror x_a and `u_c = s₂u_a + b₂(x_c)` on its mirror x_c, the ghost carries
+/// `u_c = s₁s₂ u_i + s₂b₁(x_a) + b₂(x_c)`, where x_a is x_c reflected back across the second
+/// wall (perpendicular reflections commute); pressure factor s_p₁s_p₂; the tensor mapped by
+/// one condition, then the other.
+#[derive(Debug)]
+pub struct Corner {
+    pub first: (super::Plane, std::sync::Arc<dyn WallCondition>),
+    pub second: (super::Plane, std::sync::Arc<dyn WallCondition>),
+}
+
+impl Corner {
+    fn unit_normal(plane: &super::Plane) -> Vec2 {
+        let mut n = Vec2::zeros();
+        n[plane.axis] = 1.0;
+        n
+    }
+}
+
+impl WallCondition for Corner {
+    fn velocity_sign(&self) -> f64 {
+        self.first.1.velocity_sign() * self.second.1.velocity_sign()
+    }
+
+    fn velocity_offset(&self, mirror: Vec2) -> Vec2 {
+        let first_mirror = self.second.0.reflect(&mirror);
+        self.second.1.velocity_sign() * self.first.1.velocity_offset(first_mirror)
+            + self.second.1.velocity_offset(mirror)
+    }
+
+    fn moves(&self) -> bool {
+        self.first.1.moves() || self.second.1.moves()
+    }
+
+    fn pressure_sign(&self) -> f64 {
+        self.first.1.pressure_sign() * self.second.1.pressure_sign()
+    }
+
+    fn tensor(&self, parent: &Sym2, _normal: &Vec2) -> Sym2 {
+        let once = self
+            .first
+            .1
+            .tensor(parent, &Self::unit_normal(&self.first.0));
+        self.second
+            .1
+            .tensor(&once, &Self::unit_normal(&self.second.0))
+    }
+}
+
+/// A plane lid sliding along x with the regularised profile of Fattal & Kupferman (2005),
+/// u_w(x) = 16U (x/L)²(1 − x/L)², which vanishes with its slope at the corners x = 0, L
+/// (a uniform lid's corner singularities make the stress unbounded there for any Wi).
+/// Mirrors carry u_j = 2u_w(x_j) − u_i at their own x (a plane mirror's x is its
+/// parent's); pressure and conformation as [`NoSlip`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RegularisedLid {
+    pub tensor: TensorMirror,
+    /// U, the lid's speed at x = L/2.
+    pub speed: f64,
+    /// L, the lid's length from x = 0.
+    pub length: f64,
+}
+
+impl RegularisedLid {
+    /// u_w(x) along x, zero beyond the lid.
+    pub fn velocity_at(&self, x: f64) -> f64 {
+        let s = (x / self.length).clamp(0.0, 1.0);
+        16.0 * self.speed * s * s * (1.0 - s) * (1.0 - s)
+    }
+}
+
+impl WallCondition for RegularisedLid {
+    fn velocity_sign(&self) -> f64 {
+        -1.0
+    }
+
+    fn velocity_offset(&self, mirror: Vec2) -> Vec2 {
+        Vec2::new(2.0 * self.velocity_at(mirror.x), 0.0)
+    }
+
+    fn moves(&self) -> bool {
+        self.speed != 0.0
+    }
+
+    fn tensor(&self, parent: &Sym2, normal: &Vec2) -> Sym2 {
+        NoSlip {
+            tensor: self.tensor,
+        }
+        .tensor(parent, normal)
+    }
+}

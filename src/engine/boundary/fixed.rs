@@ -199,6 +199,9 @@ pub fn ghosts_of(
             domain,
         }
         .ghosts(points, near, out),
+        // No lattice behind a corner yet: scenes with corners take mirrors
+        // (`setup::scenes::cavity`).
+        Shape::Corner(_) => {}
     }
 }
 

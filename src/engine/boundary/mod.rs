@@ -12,9 +12,11 @@ pub mod fixed;
 pub mod inflow;
 pub mod shape;
 
-pub use condition::{NoSlip, RigidNoSlip, SlidingNoSlip, TensorMirror, WallCondition};
+pub use condition::{
+    NoSlip, RegularisedLid, RigidNoSlip, SlidingNoSlip, TensorMirror, WallCondition,
+};
 pub use fixed::WallModel;
-pub use shape::{Circle, Plane, Shape};
+pub use shape::{Circle, Corner, Plane, Shape};
 
 use crate::engine::math::{Sym2, Vec2};
 use crate::engine::neighbours::Domain;
@@ -45,6 +47,37 @@ impl Wall {
             shape,
             condition: Arc::new(SlidingNoSlip { tensor, velocity }),
         }
+    }
+
+    /// The corner where plane walls `a` and `b` meet at right angles, with the conditions of
+    /// both (None unless both are planes on different axes).
+    /// A moving wall is taken first, so that its velocity is read on its own side of the
+    /// other wall ([`condition::Corner`]): across a wall at rest the lid's profile extends
+    /// odd, as no slip there requires.
+    pub fn corner(a: &Wall, b: &Wall) -> Option<Wall> {
+        let (a, b) = if b.condition.moves() && !a.condition.moves() {
+            (b, a)
+        } else {
+            (a, b)
+        };
+        let (Shape::Plane(pa), Shape::Plane(pb)) = (a.shape, b.shape) else {
+            return None;
+        };
+        if pa.axis == pb.axis {
+            return None;
+        }
+        let (mut point, mut sides) = (Vec2::zeros(), [0.0; 2]);
+        for p in [pa, pb] {
+            point[p.axis] = p.position;
+            sides[p.axis] = p.fluid_side;
+        }
+        Some(Wall {
+            shape: Shape::Corner(Corner { point, sides }),
+            condition: Arc::new(condition::Corner {
+                first: (pa, a.condition.clone()),
+                second: (pb, b.condition.clone()),
+            }),
+        })
     }
 
     /// Signed distance of `p` from the wall, positive in the fluid.

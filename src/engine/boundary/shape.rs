@@ -71,11 +71,43 @@ impl Circle {
     }
 }
 
+/// The corner where two perpendicular plane walls meet, the fluid in the quadrant on their
+/// fluid sides. A particle near both walls has a mirror across each; the quadrant behind
+/// the corner, which neither reaches, is filled by its point reflection 2c − p (the
+/// mirror of a mirror), so that a corner particle's support is as full as a wall
+/// particle's. Its values compose the two walls' conditions ([`super::condition::Corner`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Corner {
+    pub point: Vec2,
+    /// The fluid side along x and along y (±1).
+    pub sides: [f64; 2],
+}
+
+impl Corner {
+    /// The distance from the corner inside the fluid quadrant; outside it, the (negative)
+    /// distance from the nearer wall.
+    pub fn distance(&self, p: &Vec2) -> f64 {
+        let d = p - self.point;
+        let (dx, dy) = (d.x * self.sides[0], d.y * self.sides[1]);
+        if dx >= 0.0 && dy >= 0.0 {
+            d.norm()
+        } else {
+            dx.min(dy)
+        }
+    }
+
+    /// The point reflection 2c − p.
+    pub fn reflect(&self, p: &Vec2) -> Vec2 {
+        2.0 * self.point - p
+    }
+}
+
 /// The shape of a solid surface that creates mirror particles.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Shape {
     Plane(Plane),
     Circle(Circle),
+    Corner(Corner),
 }
 
 impl Shape {
@@ -92,6 +124,7 @@ impl Shape {
         match self {
             Shape::Plane(w) => w.distance(p),
             Shape::Circle(c) => c.distance(p),
+            Shape::Corner(c) => c.distance(p),
         }
     }
 
@@ -99,13 +132,14 @@ impl Shape {
         match self {
             Shape::Plane(w) => w.reflect(p),
             Shape::Circle(c) => c.reflect(p),
+            Shape::Corner(c) => c.reflect(p),
         }
     }
 
     /// Volume of a mirror relative to its parent's (1 for a plane).
     pub fn volume_ratio(&self, p: &Vec2) -> f64 {
         match self {
-            Shape::Plane(_) => 1.0,
+            Shape::Plane(_) | Shape::Corner(_) => 1.0,
             Shape::Circle(c) => c.volume_ratio(p),
         }
     }
@@ -122,16 +156,19 @@ impl Shape {
             (Shape::Circle(a), Shape::Circle(b)) => {
                 (a.centre - b.centre).norm() + (a.radius - b.radius).abs()
             }
+            (Shape::Corner(a), Shape::Corner(b)) if a.sides == b.sides => {
+                (a.point - b.point).norm()
+            }
             _ => f64::INFINITY,
         }
     }
 
     /// The deepest a mirror can lie behind the surface and still be inside the solid: 2R
     /// for a circle (a particle farther than 2R from its surface would be mirrored through
-    /// the centre into the fluid beyond), unbounded for a plane.
+    /// the centre into the fluid beyond), unbounded for a plane or a corner.
     pub fn mirror_depth(&self) -> f64 {
         match self {
-            Shape::Plane(_) => f64::INFINITY,
+            Shape::Plane(_) | Shape::Corner(_) => f64::INFINITY,
             Shape::Circle(c) => 2.0 * c.radius,
         }
     }
@@ -145,6 +182,8 @@ impl Shape {
                 n
             }
             Shape::Circle(c) => c.normal(p),
+            // The diagonal from the corner (the composed condition does not use it).
+            Shape::Corner(c) => (p - c.point).normalize(),
         }
     }
 }

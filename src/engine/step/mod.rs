@@ -72,6 +72,9 @@ pub struct Setup {
     pub discs: Vec<Disc>,
     /// The discs' short-range repulsion, if any.
     pub contact: Option<Contact>,
+    /// Gravity on the discs' buoyant mass, its hydrostatic part not in the fluid's pressure
+    /// (sedimentation; see [`crate::engine::bodies`]).
+    pub gravity: Vec2,
 }
 
 /// The stage objects of the step, built once from the scheme.
@@ -127,8 +130,8 @@ impl Simulation {
         };
         let mut walls = setup.walls;
         let bodies = Bodies::new(
-            setup.discs,
-            setup.contact,
+            (setup.discs, setup.contact, setup.gravity),
+            setup.body_force,
             scheme.wall_conformation,
             &mut walls,
         );
@@ -338,7 +341,7 @@ impl Simulation {
         let dt = stable.min(dt_max);
         self.intermediate_positions(dt);
         if !self.stages.bodies.is_empty() {
-            self.stages.bodies.apply(&mut self.stages.hood.ghosts);
+            self.stages.bodies.apply(&mut self.stages.hood.ghosts, dt);
         }
         self.neighbourhoods();
         self.kinematics(dt);
@@ -406,9 +409,14 @@ impl Simulation {
             dt,
             domain: self.domain,
         };
+        let dv = self.particle_volume();
         let bodies = &mut self.stages.bodies;
         self.timers
             .time(Stage::Bodies, || bodies.advance(view, g, &coupling));
+        let velocity = &mut self.state.velocity;
+        self.state.body_force = self.timers.time(Stage::Bodies, || {
+            bodies.hold_return_flow((velocity, dv), fluid.density, g, dt)
+        });
     }
 
     /// Step 1: r*, eq. (23).

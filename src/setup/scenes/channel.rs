@@ -53,6 +53,10 @@ pub struct ChannelSpec {
     /// The discs' short-range repulsion (`[scene.contact]`; none by default).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub contact: Option<ContactSpec>,
+    /// Gravity g_s for sedimentation: it pulls the discs' buoyant mass (ρ_s − ρ_f)πR², the
+    /// fluid's weight being balanced by a hydrostatic pressure left out of the solve.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gravity: Option<[f64; 2]>,
 }
 
 /// `[scene.cylinder]`.
@@ -81,6 +85,8 @@ pub struct Channel {
     pub wall_velocity: [f64; 2],
     pub discs: Vec<DiscPlan>,
     pub contact: Option<Contact>,
+    /// g_s on the discs' buoyant mass.
+    pub gravity: Vec2,
 }
 
 impl ChannelSpec {
@@ -92,14 +98,15 @@ impl ChannelSpec {
         if !wall_velocity.iter().all(|v| v.is_finite()) {
             return Err(field_err("scene.wall_velocity", "must be finite"));
         }
-        let sliding = wall_velocity != [0.0, 0.0];
-        let g = match (self.body_force, sliding) {
+        // What else can drive the flow: sliding walls, or discs settling under gravity.
+        let driven = wall_velocity != [0.0, 0.0] || self.gravity.is_some();
+        let g = match (self.body_force, driven) {
             (Some(g), _) => g,
             (None, true) => [0.0, 0.0],
             (None, false) => {
                 return Err(field_err(
                     "scene.body_force",
-                    "required for a channel (or scene.wall_velocity for Couette flow)",
+                    "required for a channel (or scene.wall_velocity for Couette flow, scene.gravity for sedimentation)",
                 ))
             }
         };
@@ -154,6 +161,7 @@ impl ChannelSpec {
             .as_ref()
             .map(|c| c.validate(support, discs.is_empty()))
             .transpose()?;
+        let gravity = self.validate_gravity()?;
         Ok(Channel {
             bounds: SceneBox {
                 length: self.length,
@@ -168,7 +176,30 @@ impl ChannelSpec {
             wall_velocity,
             discs,
             contact,
+            gravity,
         })
+    }
+
+    fn validate_gravity(&self) -> Result<Vec2, FieldError> {
+        let Some(g) = self.gravity else {
+            return Ok(Vec2::zeros());
+        };
+        if !g.iter().all(|v| v.is_finite()) {
+            return Err(field_err("scene.gravity", "must be finite"));
+        }
+        if self.mean_flow.is_some() {
+            return Err(field_err(
+                "scene.gravity",
+                "the settling discs' return flow sets the mean flow: omit scene.mean_flow",
+            ));
+        }
+        if self.discs.is_empty() {
+            return Err(field_err(
+                "scene.gravity",
+                "acts on [[scene.discs]] only (the fluid's weight is hydrostatic); for a driven channel use scene.body_force",
+            ));
+        }
+        Ok(Vec2::new(g[0], g[1]))
     }
 }
 
@@ -224,13 +255,19 @@ impl Scene for Channel {
     }
 
     /// The nominal mean velocity with a cylinder; else the largest of the Oldroyd-B steady
-    /// centre-line velocity ρgH²/(8η0), the fastest wall's speed and the fastest disc
-    /// surface's given speed |V| + |Ω|R.
+    /// centre-line velocity ρgH²/(8η0), the fastest wall's speed, the fastest disc
+    /// surface's given speed |V| + |Ω|R and a sedimenting disc's scale
+    /// |ρ_s − ρ_f||g_s|R²/(4η0), of the order of its terminal velocity ΔρgπR²/(η0 K) when
+    /// the drag coefficient K = F/(η0 U) is ~4π (it is 15–30 in a channel of 4R–8R).
     fn velocity_scale(&self, f: &Fluid) -> f64 {
+        let settling = |d: &DiscPlan| {
+            let dr = (d.density_ratio - 1.0).abs() * f.density;
+            dr * self.gravity.norm() * d.circle.radius.powi(2) / (4.0 * f.viscosity)
+        };
         let discs = self
             .discs
             .iter()
-            .map(|d| d.velocity.norm() + d.spin.abs() * d.circle.radius);
+            .map(|d| d.velocity.norm() + d.spin.abs() * d.circle.radius + settling(d));
         let walls = discs.fold(
             self.wall_velocity[0].abs().max(self.wall_velocity[1].abs()),
             f64::max,
@@ -304,12 +341,16 @@ impl Scene for Channel {
             inflow: None,
             discs: self.discs.iter().map(|d| d.disc(fluid.density)).collect(),
             contact: self.contact,
+            gravity: self.gravity,
         }
     }
 
     fn reference(&self, fluid: &Fluid) -> Result<Reference, String> {
         if self.cylinder.is_some() {
             return Err("no analytic solution for flow past a cylinder".into());
+        }
+        if !self.discs.is_empty() {
+            return Err("no analytic solution for flow with discs".into());
         }
         if self.wall_velocity != [0.0, 0.0] {
             if self.body_force.x != 0.0 || self.mean_flow.is_some() {

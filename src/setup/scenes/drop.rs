@@ -185,6 +185,7 @@ impl Scene for Drop {
             inflow: None,
             discs: Vec::new(),
             contact: None,
+            gravity: Vec2::zeros(),
         }
     }
 

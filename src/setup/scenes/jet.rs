@@ -159,6 +159,7 @@ impl Scene for Jet {
             inflow: Some(inflow),
             discs: Vec::new(),
             contact: None,
+            gravity: Vec2::zeros(),
         }
     }
 

@@ -6,6 +6,7 @@
 //! To add a scene: a file here with the spec, the type and its `impl Scene`, and one variant
 //! with its two match arms in [`SceneSpec`] below.
 
+pub mod cavity;
 pub mod channel;
 pub mod discs;
 pub mod drop;
@@ -39,10 +40,12 @@ pub enum SceneSpec {
     Drop(drop::DropSpec),
     /// A jet fed through an orifice onto a no-slip plate at y = 0 (King & Lind §IV D).
     Jet(jet::JetSpec),
+    /// The lid-driven square cavity (Fattal & Kupferman 2005).
+    Cavity(cavity::CavitySpec),
 }
 
 /// The kinds in case files, for the error that names them.
-const KINDS: &str = "`channel`, `taylor-green`, `drop` or `jet`";
+const KINDS: &str = "`channel`, `taylor-green`, `drop`, `jet` or `cavity`";
 
 impl SceneSpec {
     /// Reads the `[scene]` table: its `kind` first, then the table as that kind's spec, so
@@ -59,6 +62,7 @@ impl SceneSpec {
             "taylor-green" => SceneSpec::TaylorGreen(read(value)?),
             "drop" => SceneSpec::Drop(read(value)?),
             "jet" => SceneSpec::Jet(read(value)?),
+            "cavity" => SceneSpec::Cavity(read(value)?),
             other => {
                 return Err(field_err(
                     "scene.kind",
@@ -75,6 +79,7 @@ impl SceneSpec {
             SceneSpec::TaylorGreen(s) => Arc::new(s.validate()?),
             SceneSpec::Drop(s) => Arc::new(s.validate()?),
             SceneSpec::Jet(s) => Arc::new(s.validate()?),
+            SceneSpec::Cavity(s) => Arc::new(s.validate()?),
         })
     }
 }
@@ -179,6 +184,11 @@ pub trait Scene: fmt::Debug + Send + Sync {
         None
     }
     fn jet_shape(&self) -> Option<JetShape> {
+        None
+    }
+    /// A lid-driven cavity: its lid speed U (the cavity probe's scale) and whether the lid
+    /// is the regularised one (whose Stokes flow the probe compares with).
+    fn cavity(&self) -> Option<(f64, bool)> {
         None
     }
 }

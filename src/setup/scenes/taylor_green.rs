@@ -117,6 +117,7 @@ impl Scene for TaylorGreen {
             inflow: None,
             discs: Vec::new(),
             contact: None,
+            gravity: Vec2::zeros(),
         }
     }
 

@@ -5,6 +5,7 @@
 //! To add a probe: a file here implementing [`Probe`], and one line in [`Probes::for_case`]
 //! that decides when it applies.
 
+pub mod cavity;
 pub mod cylinder;
 pub mod disc;
 pub mod drop;
@@ -75,6 +76,15 @@ impl Probes {
         }
         if let Some(j) = scene.jet_shape() {
             probes.push(Box::new(jet::JetProbe::new(j.width)));
+        }
+        if let Some((u, regularised)) = scene.cavity() {
+            let newtonian = !case.fluid.model.is_viscoelastic() && case.fluid.law.is_constant();
+            let stokes = regularised && newtonian;
+            probes.push(Box::new(cavity::CavityProbe::new(
+                u,
+                scene.length(),
+                stokes,
+            )));
         }
         if scene.discs() > 0 {
             probes.push(Box::new(disc::DiscProbe::new(scene.wall_shear_rate())));
