@@ -129,10 +129,10 @@ impl Disc {
     }
 
     /// The disc where the step's fluid is: c^n + δt V^n, as Step 1 moves the particles to
-    /// r* = r^n + δt u^n (eq. (23)). Its walls and its load are taken there; built at c^n
-    /// instead, the particles moving with a settling disc met it δt V closer in front and
-    /// farther behind, and the terminal velocity carried an O(δt) error (−0.183, −0.162,
-    /// −0.149 at δt = 0.13, 0.065, 0.0325 in `cases/disc-sedimentation.toml`, Newtonian).
+    /// r* = r^n + δt u^n (eq. (23)). Its walls and its load are taken there; at c^n the
+    /// particles moving with a disc met it δt V closer in front and farther behind. (In
+    /// `cases/disc-sedimentation.toml` this changed the terminal velocity by < 0.2 %; the
+    /// O(δt) error found there was the return flow's, see [`Bodies::hold_return_flow`].)
     pub fn ahead(&self, dt: f64, domain: Option<&Domain>) -> Disc {
         let mut d = *self;
         let c = self.circle.centre + dt * self.velocity;
