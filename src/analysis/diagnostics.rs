@@ -88,10 +88,24 @@ pub fn field_stats(
 /// without a conformation). Tells a breakdown's place, e.g. the first particle layer at a
 /// wall.
 pub fn min_det_location(position: &[Vec2], conformation: &[Sym2]) -> Vec2 {
+    extreme_location(position, conformation, |a| a.det())
+}
+
+/// Where tr A is largest, in the same way: where the polymer is stretched most.
+pub fn max_trace_location(position: &[Vec2], conformation: &[Sym2]) -> Vec2 {
+    extreme_location(position, conformation, |a| -a.trace())
+}
+
+/// The position of the particle where `key` of its conformation is smallest.
+fn extreme_location(
+    position: &[Vec2],
+    conformation: &[Sym2],
+    key: impl Fn(&Sym2) -> f64 + Sync,
+) -> Vec2 {
     let best = conformation
         .par_iter()
         .enumerate()
-        .map(|(i, a)| (a.det(), i))
+        .map(|(i, a)| (key(a), i))
         .reduce(
             || (f64::INFINITY, usize::MAX),
             |x, y| {

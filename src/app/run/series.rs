@@ -25,6 +25,7 @@ pub fn row(
         sim.particle_volume(),
     );
     let where_min_det = diagnostics::min_det_location(&s.position, &s.conformation);
+    let where_max_trace = diagnostics::max_trace_location(&s.position, &s.conformation);
     let (u_centre_exact, l2_error) = match reference {
         Some(r) => (
             r.characteristic_velocity(s.time),
@@ -55,5 +56,7 @@ pub fn row(
         elastic_courant: window.max_elastic_courant,
         min_det_a_x: where_min_det.x,
         min_det_a_y: where_min_det.y,
+        max_trace_a_x: where_max_trace.x,
+        max_trace_a_y: where_max_trace.y,
     }
 }

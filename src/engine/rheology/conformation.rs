@@ -186,8 +186,15 @@ impl ConformationStage {
         u_ps: &[Vec2],
         dt: f64,
     ) {
-        sums.advective_tensor(list, &self.tensor_ext, u_ps, &mut self.advection);
-        if self.remap == Remap::Limited {
+        match self.remap {
+            Remap::Central | Remap::Limited => {
+                sums.advective_tensor(list, &self.tensor_ext, u_ps, &mut self.advection)
+            }
+            Remap::Upwind => {
+                sums.advective_tensor_upwind(list, &self.tensor_ext, u_ps, &mut self.advection)
+            }
+        }
+        if self.remap != Remap::Central {
             limit_increments(list, &self.tensor_ext, dt, &mut self.advection);
         }
     }

@@ -32,6 +32,22 @@ pub enum Remap {
     /// That increment limited to the neighbours' range (module docs).
     #[default]
     Limited,
+    /// The increment from the one-sided corrected gradient of the neighbours the particle
+    /// moves towards ([`KernelSums::advective_tensor_upwind`]), limited as `Limited`.
+    ///
+    /// For the Eulerian frame, where the remap is the whole transport of Ψ. A central
+    /// gradient with the explicit step has no dissipation for pure transport, and nothing
+    /// damps an odd–even mode faster than the relaxation 1/λ. Measured in the lid-driven
+    /// cavity (Oldroyd-B, β = 0.5, Wi = 1, L/δr = 40, fixed particles): from t ≈ 2 the
+    /// velocity in the second row under the lid alternated from particle to particle near
+    /// the upstream corner (u = 0.16, 0.13, 0.05 at x = 0.06–0.11, then negative). The
+    /// noise spread along the lid, and tr A grew without bound (1 190 at t = 13). Lagrangian
+    /// particles, whose remap is only the shift, keep tr A at 65–92 with the largest under
+    /// the lid at x ≈ 0.42, where an independent finite-volume solution has it. The
+    /// one-sided gradient is the SPH counterpart of first-order upwinding.
+    ///
+    /// [`KernelSums::advective_tensor_upwind`]: crate::engine::operators::KernelSums::advective_tensor_upwind
+    Upwind,
 }
 
 /// Increments below this fraction of the tensor's size are round-off and are not limited
