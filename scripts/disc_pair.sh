@@ -21,7 +21,6 @@ PY
   RAYON_NUM_THREADS=1 "$bin" run "$d/case.toml" --out "$d" -q --no-charts --no-snapshots "$@" \
     > "$d/log" 2>&1 || true
 }
-set -- "$@"
 for z in $offsets; do
   run_one "$z" "$@" &
   while [ "$(jobs -p | wc -l)" -ge 2 ]; do sleep 5; done
