@@ -65,6 +65,7 @@ impl Case {
         self.scene.build(&self.fluid, &self.scheme, scales)
     }
 }
+use crate::engine::boundary::WallModel;
 use crate::engine::kinematics::ConstitutiveGradient;
 use crate::engine::rheology::ConformationIntegrator;
 use crate::engine::viscosity::Viscosity;
@@ -87,8 +88,17 @@ pub fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
         ));
     }
     let scheme = scheme(&raw.scheme, scene.as_ref(), &fluid)?;
-    if scene.cavity().is_some() {
-        crate::setup::scenes::cavity::check_wall_model(raw.scheme.wall_model)?;
+    if scene.has_corners() && raw.scheme.wall_model == WallModel::FixedGhost {
+        return Err(field_err(
+            "scheme.wall_model",
+            "this scene's corners and plates need mirrors: `fixed-ghost` has no lattice behind a corner yet",
+        ));
+    }
+    if scene.contact_angle().is_some() && fluid.surface_tension <= 0.0 {
+        return Err(field_err(
+            "scene.contact_angle",
+            "a contact angle needs a surface tension (set fluid.surface_tension > 0)",
+        ));
     }
     let run = run(&raw.run, scene.as_ref(), fluid.relaxation_time)?;
     Ok(Case {

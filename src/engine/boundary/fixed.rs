@@ -201,7 +201,7 @@ pub fn ghosts_of(
         .ghosts(points, near, out),
         // No lattice behind a corner yet: scenes with corners take mirrors
         // (`setup::scenes::cavity`).
-        Shape::Corner(_) => {}
+        Shape::Corner(_) | Shape::Plate(_) => {}
     }
 }
 

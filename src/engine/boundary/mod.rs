@@ -16,7 +16,7 @@ pub use condition::{
     NoSlip, RegularisedLid, RigidNoSlip, SlidingNoSlip, TensorMirror, WallCondition,
 };
 pub use fixed::WallModel;
-pub use shape::{Circle, Corner, Plane, Shape};
+pub use shape::{Circle, Corner, Plane, Plate, Shape};
 
 use crate::engine::math::{Sym2, Vec2};
 use crate::engine::neighbours::Domain;
@@ -177,7 +177,7 @@ impl Ghosts {
             && self
                 .walls
                 .iter()
-                .any(|w| matches!(w.shape, Shape::Circle(_)))
+                .any(|w| matches!(w.shape, Shape::Circle(_) | Shape::Plate(_)))
     }
 
     pub fn len(&self) -> usize {

@@ -1,4 +1,4 @@
-//! The shapes of solid surfaces: planes and circles, with the geometry the mirror
+//! The shapes of solid surfaces: planes, circles, the corners of planes and dipped plates, with the geometry the mirror
 //! construction needs (signed distance, reflection, the mirrored volume ratio, the normal).
 
 use crate::engine::math::Vec2;
@@ -102,12 +102,99 @@ impl Corner {
     }
 }
 
+/// A vertical plate x ∈ [left, right] standing on a rounded lower end (a half disc of the
+/// plate's half thickness, its lowest point at `bottom`) and reaching past the top of the
+/// box, with fluid on both sides and below: a plate dipped into a pool (capillary rise
+/// between two of them). The sides mirror as planes, the end as a circle (radially, with the
+/// circle's volume ratio). A square end was tried first: its convex corners, which no mirror
+/// construction fills consistently, let a particle of the flow rising into the gap through
+/// the corner at t = 0.68 (`cases/capillary-rise.toml`). The plate must be thicker than two
+/// kernel supports, so that the mirrors of one side never reach the fluid of the other.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Plate {
+    pub left: f64,
+    pub right: f64,
+    pub bottom: f64,
+}
+
+impl Plate {
+    /// The rounded end as a circle.
+    pub fn end(&self) -> Circle {
+        let radius = 0.5 * (self.right - self.left);
+        Circle {
+            centre: Vec2::new(0.5 * (self.left + self.right), self.bottom + radius),
+            radius,
+        }
+    }
+
+    /// Whether `p` lies level with the flat sides (above the end's centre).
+    fn beside(&self, p: &Vec2) -> bool {
+        p.y >= self.end().centre.y
+    }
+
+    /// Distance from the plate, positive in the fluid.
+    pub fn distance(&self, p: &Vec2) -> f64 {
+        if self.beside(p) {
+            (self.left - p.x).max(p.x - self.right)
+        } else {
+            self.end().distance(p)
+        }
+    }
+
+    /// The image across the nearest side, or across the end along its radius.
+    pub fn reflect(&self, p: &Vec2) -> Vec2 {
+        if !self.beside(p) {
+            return self.end().reflect(p);
+        }
+        let side = if p.x < 0.5 * (self.left + self.right) {
+            self.left
+        } else {
+            self.right
+        };
+        Vec2::new(2.0 * side - p.x, p.y)
+    }
+
+    /// A mirror's volume relative to its parent's: 1 beside the sides, the circle's ratio
+    /// below.
+    pub fn volume_ratio(&self, p: &Vec2) -> f64 {
+        if self.beside(p) {
+            1.0
+        } else {
+            self.end().volume_ratio(p)
+        }
+    }
+
+    /// The flat side nearest `p` and `p`'s distance from it, with the side's unit normal
+    /// pointing into the fluid (None below the end's centre: no contact line there).
+    pub fn face(&self, p: &Vec2) -> Option<(f64, Vec2)> {
+        if !self.beside(p) {
+            return None;
+        }
+        let d = self.distance(p);
+        if p.x < 0.5 * (self.left + self.right) {
+            Some((d, Vec2::new(-1.0, 0.0)))
+        } else {
+            Some((d, Vec2::new(1.0, 0.0)))
+        }
+    }
+
+    /// Unit normal of the nearest side or of the end.
+    pub fn normal(&self, p: &Vec2) -> Vec2 {
+        if self.beside(p) {
+            Vec2::new(1.0, 0.0)
+        } else {
+            self.end().normal(p)
+        }
+    }
+}
+
 /// The shape of a solid surface that creates mirror particles.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Shape {
     Plane(Plane),
     Circle(Circle),
     Corner(Corner),
+    Plate(Plate),
 }
 
 impl Shape {
@@ -125,6 +212,7 @@ impl Shape {
             Shape::Plane(w) => w.distance(p),
             Shape::Circle(c) => c.distance(p),
             Shape::Corner(c) => c.distance(p),
+            Shape::Plate(c) => c.distance(p),
         }
     }
 
@@ -133,6 +221,22 @@ impl Shape {
             Shape::Plane(w) => w.reflect(p),
             Shape::Circle(c) => c.reflect(p),
             Shape::Corner(c) => c.reflect(p),
+            Shape::Plate(c) => c.reflect(p),
+        }
+    }
+
+    /// The flat face nearest `p`, where a free surface may meet the wall at a contact angle:
+    /// `p`'s distance from it and its unit normal into the fluid (None for a circle or a
+    /// corner, whose planes are walls of their own).
+    pub fn face(&self, p: &Vec2) -> Option<(f64, Vec2)> {
+        match self {
+            Shape::Plane(w) => {
+                let mut n = Vec2::zeros();
+                n[w.axis] = w.fluid_side;
+                Some((w.distance(p), n))
+            }
+            Shape::Plate(c) => c.face(p),
+            Shape::Circle(_) | Shape::Corner(_) => None,
         }
     }
 
@@ -141,6 +245,7 @@ impl Shape {
         match self {
             Shape::Plane(_) | Shape::Corner(_) => 1.0,
             Shape::Circle(c) => c.volume_ratio(p),
+            Shape::Plate(c) => c.volume_ratio(p),
         }
     }
 
@@ -159,17 +264,24 @@ impl Shape {
             (Shape::Corner(a), Shape::Corner(b)) if a.sides == b.sides => {
                 (a.point - b.point).norm()
             }
+            (Shape::Plate(a), Shape::Plate(b)) => (a.left - b.left)
+                .abs()
+                .max((a.right - b.right).abs())
+                .max((a.bottom - b.bottom).abs()),
             _ => f64::INFINITY,
         }
     }
 
     /// The deepest a mirror can lie behind the surface and still be inside the solid: 2R
     /// for a circle (a particle farther than 2R from its surface would be mirrored through
-    /// the centre into the fluid beyond), unbounded for a plane or a corner.
+    /// the centre into the fluid beyond), a plate's thickness, unbounded for a plane or a
+    /// corner.
     pub fn mirror_depth(&self) -> f64 {
         match self {
             Shape::Plane(_) | Shape::Corner(_) => f64::INFINITY,
             Shape::Circle(c) => 2.0 * c.radius,
+            // The thickness, which is also the end's diameter.
+            Shape::Plate(c) => c.right - c.left,
         }
     }
 
@@ -184,6 +296,7 @@ impl Shape {
             Shape::Circle(c) => c.normal(p),
             // The diagonal from the corner (the composed condition does not use it).
             Shape::Corner(c) => (p - c.point).normalize(),
+            Shape::Plate(c) => c.normal(p),
         }
     }
 }

@@ -7,10 +7,12 @@
 pub mod detection;
 pub mod pressure;
 pub mod tension;
+pub mod wetting;
 
 pub use detection::{FreeSurface, NEAR_SURFACE_STRENGTH};
 pub use pressure::{SurfaceInputs, SurfacePressure, SurfacePressureRule};
 pub use tension::SurfaceTension;
+pub use wetting::Wetting;
 
 use crate::engine::kernel::QuinticSpline;
 use crate::engine::math::{Sym2, Vec2};
@@ -29,12 +31,23 @@ pub struct FreeSurfaceStage {
 }
 
 impl FreeSurfaceStage {
-    /// The stage for a rule and, if σ > 0, a surface tension σ on particles of spacing δr.
-    pub fn new(rule: SurfacePressure, surface_tension: f64, spacing: f64) -> Self {
+    /// The stage for a rule and, if σ > 0, a surface tension σ on particles of spacing δr,
+    /// meeting the walls at the contact angle of `wetting` if there is one.
+    pub fn new(
+        rule: SurfacePressure,
+        surface_tension: f64,
+        spacing: f64,
+        wetting: Option<Wetting>,
+    ) -> Self {
+        let tension = (surface_tension > 0.0).then(|| {
+            let mut t = SurfaceTension::new(surface_tension, spacing);
+            t.wetting = wetting;
+            t
+        });
         Self {
             surface: FreeSurface::default(),
             rule: rule.rule(),
-            tension: (surface_tension > 0.0).then(|| SurfaceTension::new(surface_tension, spacing)),
+            tension,
             dirichlet: Vec::new(),
         }
     }
@@ -71,10 +84,11 @@ impl FreeSurfaceStage {
     /// Step 5: the Dirichlet pressure of every row (zero off the surface), from the
     /// predictor's velocity u* (fluid values, then the ghosts') and A^{n+½}, plus the
     /// capillary jump σκ where the rule's value is trusted (not an inflow row, not a sparse
-    /// splash: [`pressure::MIN_SURFACE_NEIGHBOURS`]).
+    /// splash: [`pressure::MIN_SURFACE_NEIGHBOURS`]). `points` are the positions of the
+    /// rows (fluid first).
     pub fn dirichlet_pressure(
         &mut self,
-        (list, sums): (&NeighbourList, &KernelSums),
+        (list, sums, points): (&NeighbourList, &KernelSums, &[Vec2]),
         fluid: &Fluid,
         velocity_star: &[Vec2],
         conformation: &[Sym2],
@@ -97,7 +111,7 @@ impl FreeSurfaceStage {
                 !prescribed.get(i).copied().unwrap_or(false)
                     && list.range(i).len() >= pressure::MIN_SURFACE_NEIGHBOURS
             };
-            tension.add_jump(list, &self.surface, trusted, &mut self.dirichlet);
+            tension.add_jump((list, points), &self.surface, trusted, &mut self.dirichlet);
         }
         &mut self.dirichlet
     }

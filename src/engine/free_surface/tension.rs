@@ -23,6 +23,7 @@
 //!
 //! The capillary step limit is [`capillary_limit`].
 
+use crate::engine::free_surface::wetting::{ContactLine, Wetting};
 use crate::engine::free_surface::FreeSurface;
 use crate::engine::kernel::QuinticSpline;
 use crate::engine::math::Vec2;
@@ -53,6 +54,8 @@ pub struct SurfaceTension {
     offset: f64,
     /// κ of the last evaluation (FS particles; 0 elsewhere).
     pub curvature: Vec<f64>,
+    /// A contact angle at the walls, if the scene sets one.
+    pub wetting: Option<Wetting>,
 }
 
 impl SurfaceTension {
@@ -62,23 +65,28 @@ impl SurfaceTension {
             kernel: QuinticSpline::for_spacing(spacing),
             offset: 0.5 * spacing,
             curvature: Vec::new(),
+            wetting: None,
         }
     }
 
     /// Heap bytes held.
     pub fn heap_bytes(&self) -> usize {
         crate::engine::vec_bytes(&self.curvature)
+            + self.wetting.as_ref().map_or(0, Wetting::heap_bytes)
     }
 
     /// Adds σκ_i to `pressure` on the rows `apply` selects (FS particles whose Dirichlet value
-    /// is trusted).
+    /// is trusted); `points` are the fluid positions (for the contact lines).
     pub fn add_jump(
         &mut self,
-        list: &NeighbourList,
+        (list, points): (&NeighbourList, &[Vec2]),
         surface: &FreeSurface,
         apply: impl Fn(usize) -> bool + Sync,
         pressure: &mut [f64],
     ) {
+        if let Some(wetting) = self.wetting.as_mut() {
+            wetting.update(&points[..list.rows()], surface);
+        }
         self.update_curvature(list, surface);
         let (sigma, kappa) = (self.coefficient, &self.curvature);
         pressure
@@ -88,17 +96,19 @@ impl SurfaceTension {
             .for_each(|(i, p)| *p += sigma * kappa[i]);
     }
 
-    /// κ of every FS particle (module docs).
+    /// κ of every FS particle (module docs), with the contact lines of the last
+    /// [`Wetting::update`].
     pub fn update_curvature(&mut self, list: &NeighbourList, surface: &FreeSurface) {
         let n = list.rows();
         self.curvature.resize(n, 0.0);
         let (kernel, offset) = (&self.kernel, self.offset);
+        let lines = self.wetting.as_ref().map(|w| w.lines.as_slice());
         self.curvature
             .par_iter_mut()
             .enumerate()
             .for_each(|(i, kappa)| {
                 *kappa = if surface.on_surface[i] {
-                    fitted_curvature(i, list, surface, kernel)
+                    fitted_curvature(i, list, surface, kernel, lines)
                         .map_or(0.0, |k| at_surface(k, offset))
                 } else {
                     0.0
@@ -121,48 +131,120 @@ fn at_surface(kappa: f64, offset: f64) -> f64 {
 /// to the positions of the FS particles around it (i included) in i's frame (t, n):
 /// `s_n ≈ c0 + c1 s_t + c2 s_t²`, κ = −2c2/(1 + c1²)^{3/2} (positive where the surface curves
 /// away from its outward normal, as on a drop). Only FS neighbours facing the same way
-/// (n_j·n_i > 1/2) count, so the far side of a thin thread does not. None with fewer than three
-/// such particles or a degenerate fit.
+/// (n_j·n_i > 1/2) count, so the far side of a thin thread does not. Near a contact line
+/// (`lines`, see [`super::wetting`]) the surface beyond the contact particle is its
+/// continuation at the contact angle instead of whatever lies there. None with fewer than
+/// three points or a degenerate fit.
 fn fitted_curvature(
     i: usize,
     list: &NeighbourList,
     surface: &FreeSurface,
     kernel: &QuinticSpline,
+    lines: Option<&[Option<ContactLine>]>,
 ) -> Option<f64> {
-    let n = list.rows();
-    let normal = &surface.normal;
-    let ni = normal[i];
-    let t = Vec2::new(-ni.y, ni.x);
-    let h = kernel.h();
-    // i itself: s = 0, weight W(0).
-    let w0 = kernel.value(0.0);
-    let (mut moment, mut rhs) = (Matrix3::zeros(), Vector3::zeros());
-    moment[(0, 0)] = w0;
-    let mut count = 1;
-    for k in list.range(i) {
-        let j = list.index[k] as usize;
-        if j >= n || !surface.on_surface[j] || normal[j].dot(&ni) <= 0.5 {
-            continue;
+    let ni = surface.normal[i];
+    let mut fit = ParabolaFit::new(ni, kernel);
+    fit.add(Vec2::zeros());
+    let contact = lines.and_then(|l| contact_of(i, list, surface, l));
+    let real_side = |r: Vec2| contact.is_none_or(|(c, line, _)| line.on_real_side(r - c));
+    for (_, r) in facing_surface(i, list, surface, ni) {
+        if real_side(r) {
+            fit.add(r);
         }
-        // r_j − r_i (rij is r_i − r_j), in units of h for conditioning.
-        let r = -list.rij[k] / h;
-        let (st, sn) = (r.dot(&t), r.dot(&ni));
+    }
+    if let Some((rc, line, c)) = contact {
+        let nc = surface.normal[c];
+        for (_, q) in facing_surface(c, list, surface, nc) {
+            if let Some(image) = line.continuation(q) {
+                fit.add(rc + image);
+            }
+        }
+    }
+    fit.curvature()
+}
+
+/// The FS neighbours j of i facing along `n` (n_j·n > 1/2), with r_j − r_i.
+fn facing_surface<'a>(
+    i: usize,
+    list: &'a NeighbourList,
+    surface: &'a FreeSurface,
+    n: Vec2,
+) -> impl Iterator<Item = (usize, Vec2)> + 'a {
+    let rows = list.rows();
+    list.range(i).filter_map(move |k| {
+        let j = list.index[k] as usize;
+        (j < rows && surface.on_surface[j] && surface.normal[j].dot(&n) > 0.5)
+            .then(|| (j, -list.rij[k]))
+    })
+}
+
+/// The contact particle of i's surface: the one nearest a wall among i and its facing FS
+/// neighbours that have a contact line; its position relative to i, its line and index.
+fn contact_of(
+    i: usize,
+    list: &NeighbourList,
+    surface: &FreeSurface,
+    lines: &[Option<ContactLine>],
+) -> Option<(Vec2, ContactLine, usize)> {
+    let own = lines[i].map(|l| (Vec2::zeros(), l, i));
+    facing_surface(i, list, surface, surface.normal[i])
+        .filter_map(|(j, r)| lines[j].map(|l| (r, l, j)))
+        .chain(own)
+        .min_by(|a, b| a.1.distance.total_cmp(&b.1.distance))
+}
+
+/// The kernel-weighted least-squares parabola of [`fitted_curvature`], accumulated point by
+/// point in the frame (t, n) of the particle it is fitted for.
+struct ParabolaFit<'a> {
+    normal: Vec2,
+    tangent: Vec2,
+    kernel: &'a QuinticSpline,
+    moment: Matrix3<f64>,
+    rhs: Vector3<f64>,
+    count: usize,
+}
+
+impl<'a> ParabolaFit<'a> {
+    fn new(normal: Vec2, kernel: &'a QuinticSpline) -> Self {
+        Self {
+            normal,
+            tangent: Vec2::new(-normal.y, normal.x),
+            kernel,
+            moment: Matrix3::zeros(),
+            rhs: Vector3::zeros(),
+            count: 0,
+        }
+    }
+
+    /// A surface point at `r` from the particle, weighted by W(|r|) (none beyond the
+    /// support).
+    fn add(&mut self, r: Vec2) {
+        let w = self.kernel.value(r.norm());
+        if w <= 0.0 {
+            return;
+        }
+        // In units of h for conditioning.
+        let s = r / self.kernel.h();
+        let (st, sn) = (s.dot(&self.tangent), s.dot(&self.normal));
         let basis = Vector3::new(1.0, st, st * st);
-        let w = kernel.value(list.rij[k].norm());
-        moment += w * basis * basis.transpose();
-        rhs += w * sn * basis;
-        count += 1;
+        self.moment += w * basis * basis.transpose();
+        self.rhs += w * sn * basis;
+        self.count += 1;
     }
-    if count < 3 {
-        return None;
+
+    /// κ = −2c2/(1 + c1²)^{3/2} (None with fewer than three points or a degenerate fit).
+    fn curvature(&self) -> Option<f64> {
+        if self.count < 3 {
+            return None;
+        }
+        let chol = self.moment.cholesky()?;
+        let pivots = chol.l_dirty().diagonal();
+        if pivots.min() <= 1e-4 * pivots.max() {
+            return None;
+        }
+        let c = chol.solve(&self.rhs);
+        Some(-2.0 * c[2] / (1.0 + c[1] * c[1]).powf(1.5) / self.kernel.h())
     }
-    let chol = moment.cholesky()?;
-    let pivots = chol.l_dirty().diagonal();
-    if pivots.min() <= 1e-4 * pivots.max() {
-        return None;
-    }
-    let c = chol.solve(&rhs);
-    Some(-2.0 * c[2] / (1.0 + c[1] * c[1]).powf(1.5) / h)
 }
 
 #[cfg(test)]

@@ -26,7 +26,7 @@ use crate::engine::bodies::{Bodies, Coupling, Disc, DiscMotion};
 use crate::engine::boundary::inflow::Inflow;
 use crate::engine::boundary::{Ghosts, Wall};
 use crate::engine::drive::{bulk_velocity, Drive};
-use crate::engine::free_surface::{FreeSurface, FreeSurfaceStage};
+use crate::engine::free_surface::{FreeSurface, FreeSurfaceStage, Wetting};
 use crate::engine::kernel::QuinticSpline;
 use crate::engine::kinematics::Kinematics;
 use crate::engine::math::{Sym2, Vec2};
@@ -75,6 +75,9 @@ pub struct Setup {
     /// Gravity on the discs' buoyant mass, its hydrostatic part not in the fluid's pressure
     /// (sedimentation; see [`crate::engine::bodies`]).
     pub gravity: Vec2,
+    /// The static contact angle (radians, through the liquid) where a free surface with
+    /// surface tension meets a flat wall; None: no condition there.
+    pub contact_angle: Option<f64>,
 }
 
 /// The stage objects of the step, built once from the scheme.
@@ -129,6 +132,11 @@ impl Simulation {
             Vec::new()
         };
         let mut walls = setup.walls;
+        // The contact angle holds at the scene's walls, not at the discs' (added below).
+        let wetting = setup.contact_angle.map(|theta| {
+            let shapes = walls.iter().map(|w| w.shape).collect();
+            Wetting::new(theta, shapes, setup.spacing)
+        });
         let bodies = Bodies::new(
             (setup.discs, setup.contact, setup.gravity),
             setup.body_force,
@@ -159,6 +167,7 @@ impl Simulation {
                     scheme.free_surface_pressure,
                     fluid.surface_tension,
                     setup.spacing,
+                    wetting,
                 )
             }),
             conformation: viscoelastic.then(|| {
@@ -562,7 +571,7 @@ impl Simulation {
             st.pressure.divergence(hood, &st.velocity_star);
             let dirichlet = st.free_surface.as_mut().map(|fs| {
                 let values = fs.dirichlet_pressure(
-                    (hood.0, hood.1),
+                    (hood.0, hood.1, &st.hood.points),
                     fluid,
                     st.pressure.velocity_star_ext(),
                     &s.conformation,

@@ -5,7 +5,7 @@
 
 use super::{check_box, check_memory, Scene, SceneBox};
 use crate::analysis::reference::Reference;
-use crate::engine::boundary::{Plane, RegularisedLid, Shape, Wall, WallModel};
+use crate::engine::boundary::{Plane, RegularisedLid, Shape, Wall};
 use crate::engine::drive::Drive;
 use crate::engine::lattice::lattice;
 use crate::engine::math::Vec2;
@@ -159,6 +159,7 @@ impl Scene for Cavity {
             discs: Vec::new(),
             contact: None,
             gravity: Vec2::zeros(),
+            contact_angle: None,
         }
     }
 
@@ -185,15 +186,8 @@ impl Scene for Cavity {
     fn cavity(&self) -> Option<(f64, bool)> {
         Some((self.lid_velocity, self.lid == Lid::Regularised))
     }
-}
 
-/// The fixed ghost lattice has no corners yet.
-pub fn check_wall_model(model: WallModel) -> Result<(), FieldError> {
-    if model == WallModel::FixedGhost {
-        return Err(field_err(
-            "scheme.wall_model",
-            "the cavity's corners need mirrors: `fixed-ghost` has no lattice behind a corner yet",
-        ));
+    fn has_corners(&self) -> bool {
+        true
     }
-    Ok(())
 }

@@ -342,6 +342,7 @@ impl Scene for Channel {
             discs: self.discs.iter().map(|d| d.disc(fluid.density)).collect(),
             contact: self.contact,
             gravity: self.gravity,
+            contact_angle: None,
         }
     }
 

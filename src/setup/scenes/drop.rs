@@ -18,7 +18,7 @@ use crate::engine::math::Vec2;
 use crate::engine::rheology::Fluid;
 use crate::engine::scheme::Scheme;
 use crate::engine::step::{Scales, Setup};
-use crate::setup::error::{field_err, positive, FieldError};
+use crate::setup::error::{field_err, in_range, positive, FieldError};
 use serde::{Deserialize, Serialize};
 
 /// `[scene]` of `kind = "drop"`: `resolution` is W/δr, `velocity` the impact speed U,
@@ -37,6 +37,9 @@ pub struct DropSpec {
     /// The no-slip plate y = 0 (default true).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub plate: Option<bool>,
+    /// θ in degrees, through the liquid, where the drop meets the plate (a sessile drop).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact_angle: Option<f64>,
     pub drop: Option<DropTable>,
 }
 
@@ -46,7 +49,9 @@ pub struct DropSpec {
 pub struct DropTable {
     /// W.
     pub diameter: f64,
-    /// Height of the drop's centre above the plate (default W).
+    /// Height of the drop's centre above the plate (default W). Below W/2 the drop is the
+    /// part of the disc above the plate, resting on it (a sessile drop), built on the
+    /// square lattice: rings cut by the plate would leave particles at any distance from it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub centre_height: Option<f64>,
     /// a/b of an ellipse of the disc's area, semi-axes a = R√k along x and b = R/√k
@@ -64,6 +69,8 @@ pub struct Drop {
     pub plate: bool,
     /// a/b of the initial ellipse (1: a disc).
     pub aspect_ratio: f64,
+    /// θ (radians) at the plate.
+    pub contact_angle: Option<f64>,
 }
 
 impl DropSpec {
@@ -82,15 +89,33 @@ impl DropSpec {
             )
         })?;
         let w = positive("scene.drop.diameter", d.diameter)?;
-        let centre_height = positive("scene.drop.centre_height", d.centre_height.unwrap_or(w))?;
+        let centre_height = in_range(
+            "scene.drop.centre_height",
+            d.centre_height.unwrap_or(w),
+            -0.5 * w,
+            f64::MAX,
+        )?;
         let aspect_ratio = positive("scene.drop.aspect_ratio", d.aspect_ratio.unwrap_or(1.0))?;
         let support = support_in_dr() * w / resolution as f64;
         // The ellipse's half extents a = R√k, b = R/√k.
         let (half_x, half_y) = (0.5 * w * aspect_ratio.sqrt(), 0.5 * w / aspect_ratio.sqrt());
-        if centre_height - half_y < 0.5 * w / resolution as f64 {
+        let plate = self.plate.unwrap_or(true);
+        let dr = w / resolution as f64;
+        let resting = centre_height - half_y < 0.5 * dr;
+        if resting && !(plate && aspect_ratio == 1.0 && centre_height + half_y >= 4.0 * dr) {
             return Err(field_err(
                 "scene.drop.centre_height",
-                format!("the drop (half height {half_y}) must start above the floor y = 0, got centre height {centre_height}"),
+                format!("a drop cut by the floor y = 0 (half height {half_y}, centre height {centre_height}) must be a disc resting on the plate, at least 4 spacings high"),
+            ));
+        }
+        let contact_angle = self
+            .contact_angle
+            .map(|t| in_range("scene.contact_angle", t, 15.0, 165.0).map(f64::to_radians))
+            .transpose()?;
+        if contact_angle.is_some() && !plate {
+            return Err(field_err(
+                "scene.contact_angle",
+                "a contact angle needs the plate (scene.plate = true)",
             ));
         }
         if 2.0 * (half_x + support) > length || centre_height + half_y + support > height {
@@ -112,10 +137,11 @@ impl DropSpec {
                 centre: Vec2::new(0.0, centre_height),
                 diameter: w,
                 speed,
-                plate: self.plate.unwrap_or(true),
+                plate,
             },
-            plate: self.plate.unwrap_or(true),
+            plate,
             aspect_ratio,
+            contact_angle,
         })
     }
 }
@@ -186,6 +212,7 @@ impl Scene for Drop {
             discs: Vec::new(),
             contact: None,
             gravity: Vec2::zeros(),
+            contact_angle: self.contact_angle,
         }
     }
 
@@ -205,6 +232,10 @@ impl Scene for Drop {
     fn drop_shape(&self) -> Option<DropShape> {
         Some(self.shape)
     }
+
+    fn contact_angle(&self) -> Option<f64> {
+        self.contact_angle
+    }
 }
 
 impl Drop {
@@ -212,6 +243,10 @@ impl Drop {
     /// (x, y) → (x√k, y/√k) about the centre: every particle keeps its volume δr².
     fn positions(&self) -> Vec<Vec2> {
         let c = self.shape.centre;
+        let (radius, dr) = (0.5 * self.shape.diameter, self.spacing());
+        if c.y < radius + 0.5 * dr {
+            return resting_cap(c, radius, dr);
+        }
         let stretch = self.aspect_ratio.sqrt();
         let mut points = disc(c, 0.5 * self.shape.diameter, self.spacing());
         if self.aspect_ratio != 1.0 {
@@ -222,4 +257,16 @@ impl Drop {
         }
         points
     }
+}
+
+/// The part of the disc of `radius` about `centre` above the plate y = 0, on the square
+/// lattice ((i + ½)δr, (j + ½)δr) about x = centre.x.
+fn resting_cap(centre: Vec2, radius: f64, dr: f64) -> Vec<Vec2> {
+    let columns = (radius / dr).ceil() as i64 + 1;
+    let rows = ((centre.y + radius) / dr).ceil() as i64;
+    (-columns..columns)
+        .flat_map(|i| (0..rows).map(move |j| (i, j)))
+        .map(|(i, j)| Vec2::new(centre.x + (i as f64 + 0.5) * dr, (j as f64 + 0.5) * dr))
+        .filter(|p| (p - centre).norm() <= radius)
+        .collect()
 }

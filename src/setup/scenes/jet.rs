@@ -160,6 +160,7 @@ impl Scene for Jet {
             discs: Vec::new(),
             contact: None,
             gravity: Vec2::zeros(),
+            contact_angle: None,
         }
     }
 

@@ -11,6 +11,7 @@ pub mod channel;
 pub mod discs;
 pub mod drop;
 pub mod jet;
+pub mod pool;
 pub mod taylor_green;
 
 use crate::analysis::reference::Reference;
@@ -42,10 +43,13 @@ pub enum SceneSpec {
     Jet(jet::JetSpec),
     /// The lid-driven square cavity (Fattal & Kupferman 2005).
     Cavity(cavity::CavitySpec),
+    /// A pool in a tank, meeting its walls at a contact angle, with plates dipped into it
+    /// (capillary rise).
+    Pool(pool::PoolSpec),
 }
 
 /// The kinds in case files, for the error that names them.
-const KINDS: &str = "`channel`, `taylor-green`, `drop`, `jet` or `cavity`";
+const KINDS: &str = "`channel`, `taylor-green`, `drop`, `jet`, `cavity` or `pool`";
 
 impl SceneSpec {
     /// Reads the `[scene]` table: its `kind` first, then the table as that kind's spec, so
@@ -63,6 +67,7 @@ impl SceneSpec {
             "drop" => SceneSpec::Drop(read(value)?),
             "jet" => SceneSpec::Jet(read(value)?),
             "cavity" => SceneSpec::Cavity(read(value)?),
+            "pool" => SceneSpec::Pool(read(value)?),
             other => {
                 return Err(field_err(
                     "scene.kind",
@@ -80,6 +85,7 @@ impl SceneSpec {
             SceneSpec::Drop(s) => Arc::new(s.validate()?),
             SceneSpec::Jet(s) => Arc::new(s.validate()?),
             SceneSpec::Cavity(s) => Arc::new(s.validate()?),
+            SceneSpec::Pool(s) => Arc::new(s.validate()?),
         })
     }
 }
@@ -189,6 +195,19 @@ pub trait Scene: fmt::Debug + Send + Sync {
     /// A lid-driven cavity: its lid speed U (the cavity probe's scale) and whether the lid
     /// is the regularised one (whose Stokes flow the probe compares with).
     fn cavity(&self) -> Option<(f64, bool)> {
+        None
+    }
+    /// A pool with its walls and plates (the meniscus probe's geometry).
+    fn pool(&self) -> Option<&pool::Pool> {
+        None
+    }
+    /// Whether its walls meet in corners or include plates, which only mirrors handle (the
+    /// fixed ghost lattice has none behind a corner yet).
+    fn has_corners(&self) -> bool {
+        false
+    }
+    /// The static contact angle (radians) where the free surface meets a wall.
+    fn contact_angle(&self) -> Option<f64> {
         None
     }
 }

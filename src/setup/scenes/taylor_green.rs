@@ -118,6 +118,7 @@ impl Scene for TaylorGreen {
             discs: Vec::new(),
             contact: None,
             gravity: Vec2::zeros(),
+            contact_angle: None,
         }
     }
 

@@ -17,6 +17,12 @@
 //! * `interior_pressure`: the mean pressure of the particles within R/2 of the centroid
 //!   (Laplace: σ/R); the summary averages it over the last 20 % of the run;
 //! * `max_speed`: the largest particle speed (a static drop's spurious currents).
+//!
+//! A sessile drop (a contact angle at the plate) adds `contact_angle`: the angle, in
+//! degrees, of the circular cap fitted to its FS particles more than 2δr above the plate (an
+//! algebraic least-squares circle, Kåsa 1976), the surface lying δr/2 beyond their centres:
+//! cos θ = −y_c/(ρ + δr/2) for a circle of radius ρ about (x_c, y_c). A drop at rest without
+//! gravity is such a cap, whatever its angle.
 
 use super::Probe;
 use crate::app::io::{self, SeriesRow};
@@ -49,6 +55,9 @@ pub struct DropSummary {
     /// The decay rate γ of mode2 ∝ e^{−γt} from its extrema (at least two).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub decay_rate: Option<f64>,
+    /// A sessile drop's contact angle (degrees), averaged over the last 20 % of the run.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contact_angle: Option<f64>,
 }
 
 /// One row of `drop.csv`.
@@ -68,10 +77,12 @@ pub struct DropRow {
     /// Σ m_i/ρ_i over N δV, the volume at ρ0 (1 for the projection, whose particles keep
     /// ρ0; the weakly compressible scheme's compression).
     pub volume: f64,
+    /// A sessile drop's fitted contact angle in degrees (NaN for other drops).
+    pub contact_angle: f64,
 }
 
-const HEADER: &str = "t,t_star,width_star,height_star,area,area_drift,surface_particles,max_trace_a,mode2,interior_pressure,max_speed,volume";
-const COLUMNS: usize = 12;
+const HEADER: &str = "t,t_star,width_star,height_star,area,area_drift,surface_particles,max_trace_a,mode2,interior_pressure,max_speed,volume,contact_angle";
+const COLUMNS: usize = 13;
 
 /// The drop probe of a run: its diameter and impact speed, and the rows so far.
 pub struct DropProbe {
@@ -79,6 +90,8 @@ pub struct DropProbe {
     pub speed: f64,
     /// A free drop (no plate): its mode-2 period and decay are summarised.
     pub free: bool,
+    /// A sessile drop (a contact angle at the plate): its angle is measured.
+    pub sessile: bool,
     pub rows: Vec<DropRow>,
     reference_area: Option<f64>,
 }
@@ -89,6 +102,7 @@ impl DropProbe {
             diameter,
             speed,
             free: false,
+            sessile: false,
             rows: Vec::new(),
             reference_area: None,
         }
@@ -114,6 +128,7 @@ impl DropProbe {
                     interior_pressure: v[9],
                     max_speed: v[10],
                     volume: v[11],
+                    contact_angle: v[12],
                 });
             }
         }
@@ -151,6 +166,11 @@ impl DropProbe {
         let (mode2, interior_pressure) = self.moments(sim);
         let max_speed = s.velocity.iter().map(|u| u.norm()).fold(0.0, f64::max);
         let volume = sim.fluid_volume() / (sim.particles() as f64 * sim.particle_volume());
+        let contact_angle = if self.sessile {
+            cap_angle(sim).unwrap_or(f64::NAN)
+        } else {
+            f64::NAN
+        };
         self.rows.push(DropRow {
             t: s.time,
             t_star: s.time * self.speed / self.diameter,
@@ -164,6 +184,7 @@ impl DropProbe {
             interior_pressure,
             max_speed,
             volume,
+            contact_angle,
         });
     }
 
@@ -199,7 +220,7 @@ impl DropProbe {
         out.push('\n');
         for r in &self.rows {
             out.push_str(&format!(
-                "{:.8e},{:.6e},{:.6e},{:.6e},{:.6e},{:.4e},{},{:.6e},{:.8e},{:.8e},{:.6e},{:.8e}\n",
+                "{:.8e},{:.6e},{:.6e},{:.6e},{:.6e},{:.4e},{},{:.6e},{:.8e},{:.8e},{:.6e},{:.8e},{:.6e}\n",
                 r.t,
                 r.t_star,
                 r.width,
@@ -211,7 +232,8 @@ impl DropProbe {
                 r.mode2,
                 r.interior_pressure,
                 r.max_speed,
-                r.volume
+                r.volume,
+                r.contact_angle
             ));
         }
         out
@@ -252,6 +274,9 @@ impl DropProbe {
                 .fold(0.0, f64::max),
             oscillation_period: oscillation_period(&self.rows).filter(|_| self.free),
             decay_rate: decay_rate(&self.rows).filter(|_| self.free),
+            contact_angle: self
+                .sessile
+                .then(|| late.iter().map(|r| r.contact_angle).sum::<f64>() / late.len() as f64),
         })
     }
 
@@ -289,6 +314,43 @@ impl DropProbe {
             &[curve("", |r| r.area_drift, PALETTE[0])],
         )
     }
+}
+
+/// The contact angle of a sessile drop (module docs), in degrees; None without a surface or
+/// with fewer than three surface particles above 2δr.
+fn cap_angle(sim: &Simulation) -> Option<f64> {
+    let fs = sim.surface()?;
+    let dr = sim.spacing;
+    let points: Vec<Vec2> = (0..sim.particles())
+        .filter(|&i| fs.on_surface[i] && sim.state.position[i].y > 2.0 * dr)
+        .map(|i| sim.state.position[i])
+        .collect();
+    let (centre, radius) = fit_circle(&points)?;
+    let cos = (-centre.y / (radius + 0.5 * dr)).clamp(-1.0, 1.0);
+    Some(cos.acos().to_degrees())
+}
+
+/// The circle x² + y² + Dx + Ey + F = 0 nearest `points` in the algebraic least-squares
+/// sense (Kåsa 1976), as its centre and radius (None with fewer than three points or
+/// collinear ones).
+pub fn fit_circle(points: &[Vec2]) -> Option<(Vec2, f64)> {
+    use nalgebra::{Matrix3, Vector3};
+    if points.len() < 3 {
+        return None;
+    }
+    // Centred on the points' mean for conditioning.
+    let mean = points.iter().sum::<Vec2>() / points.len() as f64;
+    let (mut m, mut b) = (Matrix3::zeros(), Vector3::zeros());
+    for p in points {
+        let q = p - mean;
+        let row = Vector3::new(q.x, q.y, 1.0);
+        m += row * row.transpose();
+        b -= row * q.norm_squared();
+    }
+    let c = m.lu().solve(&b)?;
+    let centre = Vector3::new(-0.5 * c[0], -0.5 * c[1], 0.0);
+    let r2 = centre.x * centre.x + centre.y * centre.y - c[2];
+    (r2 > 0.0).then(|| (mean + Vec2::new(centre.x, centre.y), r2.sqrt()))
 }
 
 /// Smallest |mode2| peak that counts as an oscillation (0.1 % of W): below it the signal is

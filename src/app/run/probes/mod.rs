@@ -10,6 +10,7 @@ pub mod cylinder;
 pub mod disc;
 pub mod drop;
 pub mod jet;
+pub mod meniscus;
 pub mod steady;
 
 use crate::app::io::SeriesRow;
@@ -72,6 +73,7 @@ impl Probes {
             let speed = scene.velocity_scale(&case.fluid);
             let mut probe = drop::DropProbe::new(d.diameter, speed);
             probe.free = !d.plate;
+            probe.sessile = scene.contact_angle().is_some();
             probes.push(Box::new(probe));
         }
         if let Some(j) = scene.jet_shape() {
@@ -85,6 +87,9 @@ impl Probes {
                 scene.length(),
                 stokes,
             )));
+        }
+        if let Some(pool) = scene.pool() {
+            probes.push(Box::new(meniscus::MeniscusProbe::new(pool, &case.fluid)));
         }
         if scene.discs() > 0 {
             probes.push(Box::new(disc::DiscProbe::new(scene.wall_shear_rate())));

@@ -1,0 +1,319 @@
+//! The meniscus of a pool (`kind = "pool"`): how far the surface rises at the walls and
+//! between the plates, against the exact static shapes of [`crate::setup::scenes::pool`].
+//! `meniscus.csv` holds, at every output time, the far level and every rise above it:
+//!
+//! * `level`: the height of the surface in strips 2ℓ_c wide far from every wall (midway
+//!   across the tank, or midway between each plate and the tank's wall): the median, over
+//!   columns of width δr, of the highest particle's centre plus δr/2 (a column whose top
+//!   particle has just moved out reads low, hence the median);
+//! * `wall_left`, `wall_right` (the tank's walls) and `plate_left`, `plate_right` (the plates'
+//!   outer faces): the height of the surface at the wall above the level, from the highest
+//!   particle of each of the two columns of width δr beside the wall (its centre plus δr/2),
+//!   extrapolated linearly to the wall;
+//! * `gap_mean`: the lifted column's mean height, y_c + A/d − level, with A = N δr² the area of
+//!   the liquid between the plates' flat faces, above the centres y_c of their rounded ends
+//!   (the particles keep their volume, so a count resolves the height far below one
+//!   spacing): Jurin's height exactly;
+//! * `gap_centre`: the surface's height midway between the plates (the meniscus's lowest point
+//!   when it rises).
+
+use super::Probe;
+use crate::app::io::{self, SeriesRow};
+use crate::app::plot::{self, Chart, Curve, CurveStyle, FigureFormat, PALETTE};
+use crate::engine::math::Vec2;
+use crate::engine::rheology::Fluid;
+use crate::engine::step::Simulation;
+use crate::setup::scenes::pool::Pool;
+use anyhow::Result;
+use std::path::Path;
+
+const HEADER: &str = "t,level,wall_left,wall_right,plate_left,plate_right,gap_mean,gap_centre";
+
+/// One row of `meniscus.csv` (NaN where the pool has no plates).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MeniscusRow {
+    pub t: f64,
+    pub level: f64,
+    pub wall: [f64; 2],
+    pub plate: [f64; 2],
+    pub gap_mean: f64,
+    pub gap_centre: f64,
+}
+
+/// The meniscus summary: the rises averaged over the last 20 % of the rows, beside the exact
+/// static values.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct MeniscusSummary {
+    pub contact_angle_degrees: f64,
+    pub capillary_length: f64,
+    /// ℓ_c √(2(1 − sin θ)), negative for θ > 90°.
+    pub wall_rise_exact: f64,
+    /// The mean over the tank's walls (and the plates' outer faces).
+    pub wall_rise: f64,
+    pub wall_rise_relative_error: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub jurin_height: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub gap_mean_rise: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub gap_mean_rise_relative_error: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub gap_centre_rise: Option<f64>,
+    /// The largest change of the gap's (or the walls') rise over the last 20 % of the run,
+    /// relative to the exact value: how far from static the run ended.
+    pub late_drift: f64,
+}
+
+/// The geometry the probe reads and the rows so far.
+pub struct MeniscusProbe {
+    pool: Pool,
+    dr: f64,
+    capillary_length: f64,
+    /// σ/(ρg).
+    capillary_height_squared: f64,
+    pub rows: Vec<MeniscusRow>,
+}
+
+impl MeniscusProbe {
+    pub fn new(pool: &Pool, fluid: &Fluid) -> Self {
+        use crate::setup::scenes::Scene;
+        Self {
+            pool: pool.clone(),
+            dr: pool.spacing(),
+            capillary_length: pool.capillary_length(fluid),
+            capillary_height_squared: pool.capillary_length(fluid).powi(2),
+            rows: Vec::new(),
+        }
+    }
+
+    fn half(&self) -> f64 {
+        0.5 * self.pool.bounds.length
+    }
+
+    /// The strips of the far level: (centre, half width).
+    fn strips(&self) -> Vec<(f64, f64)> {
+        let w = self.capillary_length.max(2.0 * self.dr);
+        match self.pool.plates {
+            None => vec![(0.0, w)],
+            Some([_, right]) => {
+                let c = 0.5 * (right.right + self.half());
+                vec![(-c, w), (c, w)]
+            }
+        }
+    }
+
+    /// The row of the particles at `points`.
+    pub fn measure(&self, t: f64, points: &[Vec2]) -> MeniscusRow {
+        let dr = self.dr;
+        let count = |f: &dyn Fn(&Vec2) -> bool| points.iter().filter(|p| f(p)).count() as f64;
+        let top = |a: f64, b: f64| {
+            points
+                .iter()
+                .filter(|p| p.x >= a.min(b) && p.x < a.max(b))
+                .map(|p| p.y + 0.5 * dr)
+                .fold(f64::NAN, f64::max)
+        };
+        let mut tops: Vec<f64> = Vec::new();
+        for (c, w) in self.strips() {
+            let columns = (2.0 * w / dr).round() as usize;
+            let start = c - 0.5 * columns as f64 * dr;
+            tops.extend((0..columns).map(|k| {
+                let a = start + k as f64 * dr;
+                top(a, a + dr)
+            }));
+        }
+        tops.retain(|z| z.is_finite());
+        tops.sort_unstable_by(f64::total_cmp);
+        let level = tops.get(tops.len() / 2).copied().unwrap_or(f64::NAN);
+        // The surface at a wall x_w whose fluid lies towards `side` (±1).
+        let at_wall = |x: f64, side: f64| {
+            let z0 = top(x, x + side * dr);
+            let z1 = top(x + side * dr, x + 2.0 * side * dr);
+            z0 + 0.5 * (z0 - z1) - level
+        };
+        let half = self.half();
+        let wall = [at_wall(-half, 1.0), at_wall(half, -1.0)];
+        let (plate, gap_mean, gap_centre) = match self.pool.plates {
+            None => ([f64::NAN; 2], f64::NAN, f64::NAN),
+            Some([l, r]) => {
+                let gap = r.left - l.right;
+                let base = l.end().centre.y;
+                let inside = count(&|p| p.x > l.right && p.x < r.left && p.y > base);
+                (
+                    [at_wall(l.left, -1.0), at_wall(r.right, 1.0)],
+                    base + inside * dr * dr / gap - level,
+                    top(-dr, dr) - level,
+                )
+            }
+        };
+        MeniscusRow {
+            t,
+            level,
+            wall,
+            plate,
+            gap_mean,
+            gap_centre,
+        }
+    }
+
+    /// ℓ_c √(2(1 − sin θ)), with the sign of cos θ.
+    pub fn wall_rise_exact(&self) -> f64 {
+        let theta = self.pool.contact_angle;
+        self.capillary_length * (2.0 * (1.0 - theta.sin())).sqrt() * theta.cos().signum()
+    }
+
+    /// Jurin's 2σ cos θ/(ρgd), with plates.
+    pub fn jurin_height(&self) -> Option<f64> {
+        let [l, r] = self.pool.plates?;
+        let gap = r.left - l.right;
+        Some(2.0 * self.capillary_height_squared * self.pool.contact_angle.cos() / gap)
+    }
+
+    pub fn summary(&self) -> Option<MeniscusSummary> {
+        let from = self.rows.len() - self.rows.len().div_ceil(5);
+        let late = self.rows.get(from..).filter(|l| !l.is_empty())?;
+        let mean =
+            |f: &dyn Fn(&MeniscusRow) -> f64| late.iter().map(f).sum::<f64>() / late.len() as f64;
+        let plates = self.pool.plates.is_some();
+        let wall_rise = if plates {
+            mean(&|r| 0.25 * (r.wall[0] + r.wall[1] + r.plate[0] + r.plate[1]))
+        } else {
+            mean(&|r| 0.5 * (r.wall[0] + r.wall[1]))
+        };
+        let exact = self.wall_rise_exact();
+        let jurin = self.jurin_height();
+        let gap_mean = plates.then(|| mean(&|r| r.gap_mean));
+        let watched = |r: &MeniscusRow| {
+            if plates {
+                r.gap_mean
+            } else {
+                0.5 * (r.wall[0] + r.wall[1])
+            }
+        };
+        let (lo, hi) = late
+            .iter()
+            .map(watched)
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                (a.min(v), b.max(v))
+            });
+        Some(MeniscusSummary {
+            contact_angle_degrees: self.pool.contact_angle.to_degrees(),
+            capillary_length: self.capillary_length,
+            wall_rise_exact: exact,
+            wall_rise,
+            wall_rise_relative_error: wall_rise / exact - 1.0,
+            jurin_height: jurin,
+            gap_mean_rise: gap_mean,
+            gap_mean_rise_relative_error: gap_mean.zip(jurin).map(|(g, j)| g / j - 1.0),
+            gap_centre_rise: plates.then(|| mean(&|r| r.gap_centre)),
+            late_drift: (hi - lo) / jurin.unwrap_or(exact).abs(),
+        })
+    }
+
+    pub fn csv(&self) -> String {
+        let mut out = String::from(HEADER);
+        out.push('\n');
+        for r in &self.rows {
+            let values = [
+                r.t,
+                r.level,
+                r.wall[0],
+                r.wall[1],
+                r.plate[0],
+                r.plate[1],
+                r.gap_mean,
+                r.gap_centre,
+            ];
+            let line: Vec<String> = values.iter().map(|v| format!("{v:.9e}")).collect();
+            out.push_str(&line.join(","));
+            out.push('\n');
+        }
+        out
+    }
+
+    fn chart(&self, dir: &Path, format: FigureFormat) -> Result<()> {
+        let curve = |label: &str, f: &dyn Fn(&MeniscusRow) -> f64, color, style| Curve {
+            label: label.into(),
+            points: self.rows.iter().map(|r| (r.t, f(r))).collect(),
+            style,
+            color,
+        };
+        let exact = self.wall_rise_exact();
+        let mut curves = vec![
+            curve(
+                "at the walls",
+                &|r| 0.5 * (r.wall[0] + r.wall[1]),
+                PALETTE[0],
+                CurveStyle::Line,
+            ),
+            curve("exact", &|_| exact, PALETTE[0], CurveStyle::Dashed),
+        ];
+        if let Some(j) = self.jurin_height() {
+            curves.push(curve(
+                "between the plates (mean)",
+                &|r| r.gap_mean,
+                PALETTE[1],
+                CurveStyle::Line,
+            ));
+            curves.push(curve("Jurin", &|_| j, PALETTE[1], CurveStyle::Dashed));
+        }
+        plot::draw(
+            &dir.join("meniscus.png"),
+            format,
+            &Chart {
+                title: "Rise of the surface above the far level".into(),
+                x_label: "t".into(),
+                y_label: "rise".into(),
+                ..Default::default()
+            },
+            &curves,
+        )
+    }
+}
+
+impl Probe for MeniscusProbe {
+    fn name(&self) -> &'static str {
+        "meniscus"
+    }
+
+    fn record(&mut self, sim: &mut Simulation, _rows: &[SeriesRow]) {
+        let row = self.measure(sim.state.time, &sim.state.position);
+        self.rows.push(row);
+    }
+
+    fn restore(&mut self, dir: &Path, t: f64, _state: Option<&serde_json::Value>) -> Result<()> {
+        let text = std::fs::read_to_string(dir.join("meniscus.csv"))?;
+        for line in text.lines().skip(1) {
+            let v: Vec<f64> = line.split(',').filter_map(|s| s.parse().ok()).collect();
+            if v.len() == 8 && v[0] <= t * (1.0 + 1e-8) {
+                self.rows.push(MeniscusRow {
+                    t: v[0],
+                    level: v[1],
+                    wall: [v[2], v[3]],
+                    plate: [v[4], v[5]],
+                    gap_mean: v[6],
+                    gap_centre: v[7],
+                });
+            }
+        }
+        Ok(())
+    }
+
+    fn write(&self, dir: &Path) -> Result<()> {
+        io::write_atomic(&dir.join("meniscus.csv"), self.csv().as_bytes())
+    }
+
+    fn finish(
+        &mut self,
+        _sim: &mut Simulation,
+        _rows: &[SeriesRow],
+        dir: &Path,
+        charts: Option<FigureFormat>,
+    ) -> Result<Option<serde_json::Value>> {
+        self.write(dir)?;
+        if let Some(format) = charts {
+            self.chart(dir, format)?;
+        }
+        Ok(self.summary().map(serde_json::to_value).transpose()?)
+    }
+}
