@@ -11,8 +11,9 @@
 //!   `n_i = Σ_j V_j n*_j W_ij / C_j` over fluid neighbours and self, then normalised.
 //! * Near-surface set NS: particles with at least one FS neighbour.
 //! * Exposed particles: an NS particle with a well-defined normal and no neighbour at all in
-//!   the cone of half-angle 45° about its normal, out to 1.5h, joins FS (the scan cone of
-//!   Marrone et al. 2010), and NS and the normals are evaluated again. (36) alone misses a
+//!   the scan region of Marrone et al. (2010) about its normal (a cone of half-angle 45° out
+//!   to √2 δr, and the disc of radius δr centred δr out) joins FS, and NS and the normals are
+//!   evaluated again. (36) alone misses a
 //!   particle at the bottom of a dent: the surface curving up on both sides fills its support
 //!   enough to pass for interior. Its PPE row then has no Dirichlet value, and a pressure
 //!   spike follows. Measured between the plates of `cases/capillary-rise.toml`: the fountain
@@ -36,8 +37,9 @@ const CONCENTRATION_FLOOR: f64 = -0.2;
 /// Normal strength (|n| h², see [`FreeSurface::normal_strength`]) above which an NS particle
 /// belongs to the surface region: 15 % of a flat surface's.
 pub const NEAR_SURFACE_STRENGTH: f64 = 0.05;
-/// The exposure cone's reach, in h, and the cosine of its half-angle.
-const CONE_REACH: f64 = 1.5;
+/// The exposure scan region (Marrone et al. 2010) in particle spacings: a cone of half-angle
+/// 45° (cosine below) about the normal out to √2 δr, with the disc of radius δr centred δr
+/// out along the normal.
 const CONE_COS: f64 = std::f64::consts::FRAC_1_SQRT_2;
 
 /// The free-surface sets and normals of one particle configuration, with buffers reused from
@@ -188,7 +190,8 @@ impl FreeSurface {
 
     /// Adds the exposed NS particles to FS (module docs); whether any was added.
     fn expose(&mut self, list: &NeighbourList, kernel: &QuinticSpline) -> bool {
-        let reach2 = (CONE_REACH * kernel.h()).powi(2);
+        let dr = kernel.h() / crate::engine::kernel::H_OVER_DR;
+        let reach2 = 2.0 * dr * dr;
         let (near, normal, strength) = (&self.near_surface, &self.normal, &self.normal_strength);
         let exposed: Vec<usize> = (0..list.rows())
             .into_par_iter()
@@ -200,7 +203,9 @@ impl FreeSurface {
                         let r = -list.rij[k];
                         let r2 = r.norm_squared();
                         let along = r.dot(&normal[i]);
-                        r2 < reach2 && along > 0.0 && along * along > CONE_COS * CONE_COS * r2
+                        let in_cone =
+                            r2 < reach2 && along > 0.0 && along * along > CONE_COS * CONE_COS * r2;
+                        in_cone || (r - dr * normal[i]).norm_squared() < 0.98 * dr * dr
                     })
             })
             .collect();
@@ -279,6 +284,11 @@ mod tests {
         assert!(fs.on_surface[below]);
         // (36) alone would not flag it.
         let div = fs.position_divergence[below];
+        let second = points
+            .iter()
+            .position(|p| (p - Vec2::new(0.05, 0.28)).norm() < 1e-9)
+            .unwrap();
+        assert!(!fs.on_surface[second]);
         assert!(div > DIVERGENCE_THRESHOLD, "div r = {div}");
         // The outer ring less the hole, and the exposed particle.
         assert_eq!(fs.count(), 4 * (m - 1));

@@ -40,8 +40,9 @@ pub struct MeniscusRow {
     pub gap_centre: f64,
 }
 
-/// The meniscus summary: the rises averaged over the last 20 % of the rows, beside the exact
-/// static values.
+/// The meniscus summary: the rises averaged over the second half of the rows (a wide tank
+/// sloshes for long after the menisci form: its gravest mode, of period 2L/√(gD), is barely
+/// damped), beside the exact static values.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct MeniscusSummary {
     pub contact_angle_degrees: f64,
@@ -59,8 +60,8 @@ pub struct MeniscusSummary {
     pub gap_mean_rise_relative_error: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub gap_centre_rise: Option<f64>,
-    /// The largest change of the gap's (or the walls') rise over the last 20 % of the run,
-    /// relative to the exact value: how far from static the run ended.
+    /// The range of the gap's (or the walls') rise over the second half of the run, relative
+    /// to the exact value: how far from static the averaged rows are.
     pub late_drift: f64,
 }
 
@@ -170,7 +171,7 @@ impl MeniscusProbe {
     }
 
     pub fn summary(&self) -> Option<MeniscusSummary> {
-        let from = self.rows.len() - self.rows.len().div_ceil(5);
+        let from = self.rows.len() / 2;
         let late = self.rows.get(from..).filter(|l| !l.is_empty())?;
         let mean =
             |f: &dyn Fn(&MeniscusRow) -> f64| late.iter().map(f).sum::<f64>() / late.len() as f64;
