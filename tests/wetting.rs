@@ -32,10 +32,7 @@ fn probe(dir: &Path, name: &str) -> serde_json::Value {
 fn a_sessile_drop_rests_at_its_contact_angle() {
     for theta in [40.0, 120.0] {
         let angle = format!("scene.contact_angle={theta}");
-        let case = shipped(
-            "sessile-drop.toml",
-            &["run.end_time=20", &angle],
-        );
+        let case = shipped("sessile-drop.toml", &["run.end_time=20", &angle]);
         let (s, dir) = run_quiet(&case, false);
         assert_eq!(s.outcome, Outcome::Finished, "{:?}", s.reason);
         let d = probe(dir.path(), "drop");
