@@ -67,6 +67,8 @@ pub struct FreeSurface {
     /// on both sides (the middle of a thin jet).
     pub normal_strength: Vec<f64>,
     raw_normal: Vec<Vec2>,
+    /// Scratch of the exposure test: which particles it adds to FS.
+    exposed: Vec<bool>,
 }
 
 impl FreeSurface {
@@ -80,6 +82,7 @@ impl FreeSurface {
             + b(&self.normal)
             + b(&self.normal_strength)
             + b(&self.raw_normal)
+            + b(&self.exposed)
     }
 
     /// The surface region into `out`: FS, and the NS particles whose normal is well defined
@@ -205,27 +208,29 @@ impl FreeSurface {
             list.range(i)
                 .any(|k| list.index[k] as usize >= n && list.rij[k].norm_squared() < wall_reach2)
         };
-        let exposed: Vec<usize> = (0..n)
-            .into_par_iter()
-            .filter(|&i| {
-                near[i]
-                    && strength[i] > NEAR_SURFACE_STRENGTH
-                    && !by_wall(i)
-                    && !list.range(i).any(|k| {
-                        // r_j − r_i (any point, mirrors too: a wall is not a surface).
-                        let r = -list.rij[k];
-                        let r2 = r.norm_squared();
-                        let along = r.dot(&normal[i]);
-                        let in_cone =
-                            r2 < reach2 && along > 0.0 && along * along > CONE_COS * CONE_COS * r2;
-                        in_cone || (r - dr * normal[i]).norm_squared() < 0.98 * dr * dr
-                    })
-            })
-            .collect();
-        for &i in &exposed {
-            self.on_surface[i] = true;
+        let mut exposed = std::mem::take(&mut self.exposed);
+        exposed.resize(n, false);
+        exposed.par_iter_mut().enumerate().for_each(|(i, e)| {
+            *e = near[i]
+                && strength[i] > NEAR_SURFACE_STRENGTH
+                && !by_wall(i)
+                && !list.range(i).any(|k| {
+                    // r_j − r_i (any point, mirrors too: a wall is not a surface).
+                    let r = -list.rij[k];
+                    let r2 = r.norm_squared();
+                    let along = r.dot(&normal[i]);
+                    let in_cone =
+                        r2 < reach2 && along > 0.0 && along * along > CONE_COS * CONE_COS * r2;
+                    in_cone || (r - dr * normal[i]).norm_squared() < 0.98 * dr * dr
+                });
+        });
+        let mut any = false;
+        for (s, &e) in self.on_surface.iter_mut().zip(&exposed) {
+            *s |= e;
+            any |= e;
         }
-        !exposed.is_empty()
+        self.exposed = exposed;
+        any
     }
 }
 

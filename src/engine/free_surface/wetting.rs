@@ -98,18 +98,15 @@ impl Wetting {
 
     /// The contact lines of the FS particles at `points` (the fluid positions).
     pub fn update(&mut self, points: &[Vec2], surface: &FreeSurface) {
-        let n = surface.on_surface.len();
-        self.lines.clear();
-        self.lines.resize(n, None);
+        // Filled in place (the buffer is reused from step to step).
+        let mut lines = std::mem::take(&mut self.lines);
+        lines.resize(surface.on_surface.len(), None);
         let this = &*self;
-        let lines: Vec<Option<ContactLine>> = (0..n)
-            .into_par_iter()
-            .map(|i| {
-                surface.on_surface[i]
-                    .then(|| this.line(&points[i], surface.normal[i]))
-                    .flatten()
-            })
-            .collect();
+        lines.par_iter_mut().enumerate().for_each(|(i, line)| {
+            *line = surface.on_surface[i]
+                .then(|| this.line(&points[i], surface.normal[i]))
+                .flatten();
+        });
         self.lines = lines;
     }
 

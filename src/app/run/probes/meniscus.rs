@@ -76,8 +76,6 @@ pub struct MeniscusProbe {
     pool: Pool,
     dr: f64,
     capillary_length: f64,
-    /// σ/(ρg).
-    capillary_height_squared: f64,
     pub rows: Vec<MeniscusRow>,
 }
 
@@ -88,7 +86,6 @@ impl MeniscusProbe {
             pool: pool.clone(),
             dr: pool.spacing(),
             capillary_length: pool.capillary_length(fluid),
-            capillary_height_squared: pool.capillary_length(fluid).powi(2),
             rows: Vec::new(),
         }
     }
@@ -184,7 +181,9 @@ impl MeniscusProbe {
     pub fn jurin_height(&self) -> Option<f64> {
         let [l, r] = self.pool.plates?;
         let gap = r.left - l.right;
-        Some(2.0 * self.capillary_height_squared * self.pool.contact_angle.cos() / gap)
+        // 2σ cos θ/(ρgd), with σ/(ρg) = ℓ_c².
+        let lc2 = self.capillary_length.powi(2);
+        Some(2.0 * lc2 * self.pool.contact_angle.cos() / gap)
     }
 
     pub fn summary(&self) -> Option<MeniscusSummary> {
