@@ -7,7 +7,7 @@
 //! each term supplied by the stage that owns it: the ALE advection by the shift velocity
 //! (step 2), the explicit viscous term (absent when viscosity is implicit, see
 //! [`crate::engine::viscosity`]), the EVSS stress divergence (viscoelastic fluids, step 3),
-//! the body force, and the old pressure gradient (incremental projection only, see
+//! the body force, a surface tension's cohesion force, and the old pressure gradient (incremental projection only, see
 //! [`crate::engine::projection`]).
 
 use crate::engine::math::{Mat2, Vec2};
@@ -29,6 +29,9 @@ pub struct PredictorTerms<'a> {
     /// The weakly compressible scheme's pressure, polymer-stress, artificial viscosity and
     /// stress accelerations (see [`crate::engine::weakly_compressible`]).
     pub weak: Option<&'a [Vec2]>,
+    /// The cohesion force's acceleration (surface tension as a pair force, see
+    /// [`crate::engine::free_surface::cohesion`]).
+    pub cohesion: Option<&'a [Vec2]>,
     /// 1/ρ.
     pub inv_rho: f64,
 }
@@ -43,6 +46,7 @@ pub fn predict(terms: &PredictorTerms, velocity: &[Vec2], dt: f64, out: &mut Vec
         body_force,
         old_pressure_gradient,
         weak,
+        cohesion,
         inv_rho,
     } = *terms;
     out.resize(velocity.len(), Vec2::zeros());
@@ -63,6 +67,9 @@ pub fn predict(terms: &PredictorTerms, velocity: &[Vec2], dt: f64, out: &mut Vec
             }
             if let Some(weak) = weak {
                 a += weak[i];
+            }
+            if let Some(cohesion) = cohesion {
+                a += cohesion[i];
             }
             *us = u + dt * a;
         });

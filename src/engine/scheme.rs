@@ -4,7 +4,7 @@
 
 use crate::engine::boundary::{TensorMirror, WallModel};
 use crate::engine::frame::Frame;
-use crate::engine::free_surface::SurfacePressure;
+use crate::engine::free_surface::{SurfacePressure, SurfaceTensionForm};
 use crate::engine::kinematics::ConstitutiveGradient;
 use crate::engine::projection::Projection;
 use crate::engine::rheology::{ConformationIntegrator, ConformationScheme};
@@ -51,6 +51,8 @@ pub struct Scheme {
     pub free_surface_pressure: SurfacePressure,
     /// Free surfaces: the repulsive term of (42)–(44) in the shifting of internal particles.
     pub surface_repulsion: bool,
+    /// How a surface tension acts: in the free-surface pressure or as a cohesion force.
+    pub surface_tension: SurfaceTensionForm,
 }
 
 impl Scheme {

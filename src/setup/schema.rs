@@ -5,7 +5,7 @@
 
 use crate::engine::boundary::{TensorMirror, WallModel};
 use crate::engine::frame::Frame;
-use crate::engine::free_surface::SurfacePressure;
+use crate::engine::free_surface::{SurfacePressure, SurfaceTensionForm};
 use crate::engine::rheology::{ConformationScheme, Remap};
 use crate::engine::scheme::PpeSolver;
 use crate::engine::viscosity::Viscosity;
@@ -255,6 +255,9 @@ pub struct SchemeSpec {
     /// Free surfaces: the repulsive term of (42)–(44) in the shifting of internal particles
     /// (King & Lind: helpful for Re < 5).
     pub surface_repulsion: bool,
+    /// `normal-stress` (the capillary jump σκ in the free-surface pressure) or `cohesion`
+    /// (the pairwise force of Wróblewski et al. 2008).
+    pub surface_tension: SurfaceTensionForm,
 }
 
 impl Default for SchemeSpec {
@@ -298,6 +301,7 @@ impl Default for SchemeSpec {
             projection: ProjectionChoice::Auto,
             free_surface_pressure: SurfacePressure::NormalStress,
             surface_repulsion: true,
+            surface_tension: SurfaceTensionForm::NormalStress,
         }
     }
 }

@@ -2,6 +2,7 @@
 //! engine's types (the scene validates itself, see [`crate::setup::scenes`]).
 
 use crate::engine::frame::Frame;
+use crate::engine::free_surface::SurfaceTensionForm;
 use crate::engine::projection::Projection;
 use crate::engine::rheology::models::Parameter;
 use crate::engine::rheology::{Fluid, LawEntry, Model, Solvent, ViscosityLaw, LAWS, MODELS};
@@ -394,6 +395,7 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
         wall_model: s.wall_model,
         free_surface_pressure: s.free_surface_pressure,
         surface_repulsion: s.surface_repulsion,
+        surface_tension: s.surface_tension,
     })
 }
 
@@ -421,10 +423,10 @@ fn method(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Method, Fi
             "the polymer stress enters whole in the symmetric form, without EVSS (set 0)",
         );
     }
-    if fluid.surface_tension > 0.0 {
+    if fluid.surface_tension > 0.0 && s.surface_tension != SurfaceTensionForm::Cohesion {
         return refuse(
             "fluid.surface_tension",
-            "surface tension enters the projection's free-surface pressure only",
+            "its capillary jump enters the projection's free-surface pressure only (set scheme.surface_tension = \"cohesion\")",
         );
     }
     if s.projection == ProjectionChoice::Incremental {

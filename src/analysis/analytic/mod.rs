@@ -1,5 +1,6 @@
 //! Analytic reference solutions.
 
+pub mod drop_oscillation;
 pub mod roots;
 pub mod startup_couette;
 pub mod steady_channel;
@@ -7,6 +8,7 @@ pub mod stokes_cavity;
 pub mod taylor_green;
 pub mod waters_king;
 
+pub use drop_oscillation::DropMode;
 pub use startup_couette::StartupCouette;
 pub use steady_channel::SteadyChannel;
 pub use waters_king::StartupPoiseuille;

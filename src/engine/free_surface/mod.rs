@@ -1,14 +1,17 @@
 //! Free surfaces (King & Lind §III C–D): the optional stage of a scene with free surfaces.
 //! Step 2 detects the surface and its normals ([`detection`], (36)–(39)); step 5 gives the PPE
 //! rows of surface particles their Dirichlet pressure ([`pressure`], (34)–(35)), with the
-//! capillary jump σκ of a surface tension ([`tension`]). The same
+//! capillary jump σκ of a surface tension ([`tension`]), or the surface tension acts as a
+//! pairwise cohesion force in the momentum equation instead ([`cohesion`]). The same
 //! scenes use the free-surface shifting (40)–(44) and the positive stress divergence (20).
 
+pub mod cohesion;
 pub mod detection;
 pub mod pressure;
 pub mod tension;
 pub mod wetting;
 
+pub use cohesion::Cohesion;
 pub use detection::{FreeSurface, NEAR_SURFACE_STRENGTH};
 pub use pressure::{SurfaceInputs, SurfacePressure, SurfacePressureRule};
 pub use tension::SurfaceTension;
@@ -19,6 +22,19 @@ use crate::engine::math::{Sym2, Vec2};
 use crate::engine::neighbours::NeighbourList;
 use crate::engine::operators::KernelSums;
 use crate::engine::rheology::Fluid;
+use serde::{Deserialize, Serialize};
+
+/// How a surface tension acts (`scheme.surface_tension`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SurfaceTensionForm {
+    /// The capillary jump σκ in the free-surface pressure's normal-stress balance
+    /// ([`tension`]), the contact angle imposed on the surface's shape ([`wetting`]).
+    NormalStress,
+    /// The pairwise cohesion force of Wróblewski et al. (2008) ([`cohesion`]), the contact
+    /// angle through the walls' attraction.
+    Cohesion,
+}
 
 /// The free-surface stage: the surface of the current step and its pressure rule.
 pub struct FreeSurfaceStage {

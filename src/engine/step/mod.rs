@@ -26,7 +26,9 @@ use crate::engine::bodies::{Bodies, Coupling, Disc, DiscMotion};
 use crate::engine::boundary::inflow::Inflow;
 use crate::engine::boundary::{Ghosts, Wall};
 use crate::engine::drive::{bulk_velocity, Drive};
-use crate::engine::free_surface::{FreeSurface, FreeSurfaceStage, Wetting};
+use crate::engine::free_surface::{
+    Cohesion, FreeSurface, FreeSurfaceStage, SurfaceTensionForm, Wetting,
+};
 use crate::engine::kernel::QuinticSpline;
 use crate::engine::kinematics::Kinematics;
 use crate::engine::math::{Sym2, Vec2};
@@ -102,6 +104,8 @@ struct Stages {
     pressure: PressureStage,
     /// The weakly compressible scheme, which replaces Steps 5–6 (None: the projection).
     weak: Option<WeakStage>,
+    /// A surface tension as a cohesion force (None: none, or the capillary jump σκ).
+    cohesion: Option<Cohesion>,
 }
 
 /// A running simulation.
@@ -132,8 +136,20 @@ impl Simulation {
             Vec::new()
         };
         let mut walls = setup.walls;
+        let cohesive = scheme.surface_tension == SurfaceTensionForm::Cohesion;
+        let cohesion = (cohesive && fluid.surface_tension > 0.0).then(|| {
+            let shapes: Vec<_> = walls.iter().map(|w| w.shape).collect();
+            let support = QuinticSpline::for_spacing(setup.spacing).support();
+            let material = (fluid.surface_tension, fluid.density);
+            Cohesion::new(
+                material,
+                setup.spacing,
+                support,
+                (&shapes, setup.contact_angle),
+            )
+        });
         // The contact angle holds at the scene's walls, not at the discs' (added below).
-        let wetting = setup.contact_angle.map(|theta| {
+        let wetting = setup.contact_angle.filter(|_| !cohesive).map(|theta| {
             let shapes = walls.iter().map(|w| w.shape).collect();
             Wetting::new(theta, shapes, setup.spacing)
         });
@@ -165,7 +181,7 @@ impl Simulation {
             free_surface: setup.free_surface.then(|| {
                 FreeSurfaceStage::new(
                     scheme.free_surface_pressure,
-                    fluid.surface_tension,
+                    if cohesive { 0.0 } else { fluid.surface_tension },
                     setup.spacing,
                     wetting,
                 )
@@ -196,6 +212,7 @@ impl Simulation {
                     Some(WeakStage::new(w, fluid.density, &kernel, setup.spacing))
                 }
             },
+            cohesion,
         };
         let mut sim = Self {
             kernel,
@@ -507,7 +524,12 @@ impl Simulation {
         let factor = st.shear_viscosity.as_ref().map_or(&[][..], |v| v.factor());
         let fluid = &self.fluid;
         let kernel = &self.kernel;
+        let (domain, n) = (&self.domain, s.position.len());
         self.timers.time(Stage::Predictor, || {
+            let cohesion = st
+                .cohesion
+                .as_mut()
+                .map(|c| c.accelerations(domain, &st.hood.points[..n]));
             let hood = st.hood.parts();
             let weak = st.weak.as_mut().map(|w| {
                 let inputs = MomentumInputs {
@@ -534,6 +556,7 @@ impl Simulation {
                     .filter(|_| weak.is_none())
                     .map(|c| c.stress_divergence()),
                 weak,
+                cohesion,
                 body_force,
                 old_pressure_gradient: st.projection.old_pressure_gradient(hood, &s.pressure),
                 inv_rho,
@@ -696,6 +719,7 @@ impl Simulation {
             + st.conformation.as_ref().map_or(0, |c| c.heap_bytes())
             + st.viscous.heap_bytes()
             + st.shear_viscosity.as_ref().map_or(0, |v| v.heap_bytes())
+            + st.cohesion.as_ref().map_or(0, Cohesion::heap_bytes)
             + b(&st.velocity_star)
             + st.projection.heap_bytes()
             + st.pressure.heap_bytes()

@@ -25,10 +25,12 @@
 //! gravity is such a cap, whatever its angle.
 
 use super::Probe;
+use crate::analysis::analytic::DropMode;
 use crate::app::io::{self, SeriesRow};
 use crate::app::plot::FigureFormat;
 use crate::app::plot::{self, Chart, Curve, CurveStyle, PALETTE};
 use crate::engine::math::Vec2;
+use crate::engine::rheology::{Fluid, Model};
 use crate::engine::step::Simulation;
 use anyhow::Result;
 use std::path::Path;
@@ -55,6 +57,13 @@ pub struct DropSummary {
     /// The decay rate γ of mode2 ∝ e^{−γt} from its extrema (at least two).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub decay_rate: Option<f64>,
+    /// The mode-2 period of linear theory, for a free drop of a liquid it covers
+    /// ([`linear_mode`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub theory_period: Option<f64>,
+    /// The mode-2 decay rate of linear theory.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub theory_decay_rate: Option<f64>,
     /// A sessile drop's contact angle (degrees), averaged over the last 20 % of the run.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub contact_angle: Option<f64>,
@@ -93,6 +102,8 @@ pub struct DropProbe {
     /// A sessile drop (a contact angle at the plate): its angle is measured.
     pub sessile: bool,
     pub rows: Vec<DropRow>,
+    /// A free drop's mode 2 in linear theory, when the liquid has one ([`linear_mode`]).
+    pub theory: Option<DropMode>,
     reference_area: Option<f64>,
 }
 
@@ -104,6 +115,7 @@ impl DropProbe {
             free: false,
             sessile: false,
             rows: Vec::new(),
+            theory: None,
             reference_area: None,
         }
     }
@@ -274,6 +286,8 @@ impl DropProbe {
                 .fold(0.0, f64::max),
             oscillation_period: oscillation_period(&self.rows).filter(|_| self.free),
             decay_rate: decay_rate(&self.rows).filter(|_| self.free),
+            theory_period: self.theory.and_then(|m| m.period()),
+            theory_decay_rate: self.theory.and_then(|m| m.decay_rate()),
             contact_angle: self
                 .sessile
                 .then(|| late.iter().map(|r| r.contact_angle).sum::<f64>() / late.len() as f64),
@@ -351,6 +365,37 @@ pub fn fit_circle(points: &[Vec2]) -> Option<(Vec2, f64)> {
     let centre = Vector3::new(-0.5 * c[0], -0.5 * c[1], 0.0);
     let r2 = centre.x * centre.x + centre.y * centre.y - c[2];
     (r2 > 0.0).then(|| (mean + Vec2::new(centre.x, centre.y), r2.sqrt()))
+}
+
+/// Mode 2 of a free drop of radius `radius` in linear theory
+/// ([`crate::analysis::analytic::drop_oscillation`]): for a Newtonian liquid of constant
+/// viscosity with surface tension, and for the models whose response about rest is
+/// Oldroyd-B's (a single Maxwell mode η_p, λ beside the solvent); None for the others (FENE
+/// models relax from a rest state of their own, and a shear-dependent viscosity has no
+/// single η).
+pub fn linear_mode(fluid: &Fluid, radius: f64) -> Option<DropMode> {
+    let maxwell = matches!(
+        fluid.model,
+        Model::OldroydB
+            | Model::Ucm
+            | Model::LinearPtt(_)
+            | Model::ExponentialPtt(_)
+            | Model::Giesekus(_)
+    );
+    let newtonian = fluid.model == Model::Newtonian && fluid.law.is_constant();
+    (fluid.surface_tension > 0.0 && (maxwell || newtonian)).then(|| DropMode {
+        n: 2,
+        surface_tension: fluid.surface_tension,
+        density: fluid.density,
+        radius,
+        solvent_viscosity: fluid.solvent_viscosity(),
+        polymer_viscosity: if maxwell {
+            fluid.polymer_viscosity()
+        } else {
+            0.0
+        },
+        relaxation_time: if maxwell { fluid.relaxation_time } else { 0.0 },
+    })
 }
 
 /// Smallest |mode2| peak that counts as an oscillation (0.1 % of W): below it the signal is

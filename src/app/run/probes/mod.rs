@@ -73,6 +73,9 @@ impl Probes {
             let speed = scene.velocity_scale(&case.fluid);
             let mut probe = drop::DropProbe::new(d.diameter, speed);
             probe.free = !d.plate;
+            probe.theory = (!d.plate)
+                .then(|| drop::linear_mode(&case.fluid, d.diameter / 2.0))
+                .flatten();
             probe.sessile = scene.contact_angle().is_some();
             probes.push(Box::new(probe));
         }

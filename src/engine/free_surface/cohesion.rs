@@ -1,0 +1,188 @@
+//! Surface tension as a pairwise cohesion force (Wróblewski, Boryczko & Kopeć 2008, eq. (9)),
+//! the variant `scheme.surface_tension = "cohesion"` beside the capillary jump σκ of the
+//! normal-stress balance ([`super::tension`]).
+//!
+//! Every pair of fluid particles attracts with a force that acts only beyond the kernel's
+//! support r_c, on [r_c, 2r_c]: a kernel-shaped bump b(r) = W(|r − 3r_c/2|) of a quintic
+//! spline with support r_c/2 (the seed's F_ij = −A·W; its authors found that an attraction
+//! inside the SPH range binds particles in pairs, and that the bump's exact form does not
+//! matter once it is negative on [r_c, 2r_c]). The acceleration of particle i is
+//!
+//! ```text
+//!     a_i = −(S/ρ) Σ_j δV b(r_ij) r̂_ij,
+//! ```
+//!
+//! a force density S b(r) between two volume elements. Its surface tension follows from the
+//! work of parting two half-planes of uniform liquid (mean field): σ = −∫₀^∞ r² φ(r) dr for
+//! the pair energy density φ with −φ' = −S b, that is
+//!
+//! ```text
+//!     σ = (S/3) ∫₀^∞ r³ b(r) dr,
+//! ```
+//!
+//! which sets S from `fluid.surface_tension`. The discrete sum over a disordered particle
+//! cloud is not the integral, so the σ the scheme actually has is measured by the Laplace
+//! test (drops of three radii, p_in = p_0 + σ_eff/R; README). The same force pulls the
+//! particles near a free surface inward with a cohesive pressure that a flat surface
+//! already has, K = (π/2) S ∫₀^∞ r² b(r) dr (the mean field's a n²): the pressure a drop's
+//! interior carries is p_0 ≈ K less what the Dirichlet particles inside the layer hold,
+//! plus σ/R.
+//!
+//! Wetting (the seed's fluid–wall attraction). The cohesion sum runs over fluid particles
+//! only, so a wall is a vacuum to it: alone it would not wet at all (θ = 180°). A flat
+//! wall attracts with the same bump of strength S_w, integrated over the half-plane of a
+//! uniform solid behind it: at distance d the pull toward the wall is (S_w/ρ) g(d),
+//! g(d) = ∫_{y>d} b(r) y/r dA (tabulated at set-up). Parting liquid from the solid costs
+//! 2σ S_w/S per unit length, so Young–Dupré, σ(1 + cos θ) = 2σ S_w/S, gives
+//! S_w = S(1 + cos θ)/2: `scene.contact_angle` chooses S_w.
+
+use crate::engine::boundary::Shape;
+use crate::engine::kernel::QuinticSpline;
+use crate::engine::math::Vec2;
+use crate::engine::neighbours::{Domain, NeighbourList, NeighbourSearch};
+use rayon::prelude::*;
+
+/// Simpson intervals of the set-up quadratures (the bump spans [r_c, 2r_c]).
+const QUADRATURE: usize = 2000;
+/// Entries of the wall table g(d) over d ∈ [0, 2r_c].
+const WALL_TABLE: usize = 400;
+
+/// The cohesion force of a fluid with surface tension σ, and its walls' attraction.
+pub struct Cohesion {
+    /// The bump's kernel (support r_c/2) and centre 3r_c/2.
+    bump: QuinticSpline,
+    centre: f64,
+    /// 2r_c, the force's reach.
+    reach: f64,
+    /// S/ρ times the particle volume δV.
+    scale: f64,
+    /// The attracting flat walls and the half-plane's pull g(d)·S_w/ρ, tabulated.
+    walls: Vec<Shape>,
+    wall_pull: Vec<f64>,
+    /// The cohesive pressure K of a flat surface (see the module's comment).
+    pub flat_pressure: f64,
+    search: NeighbourSearch,
+    list: NeighbourList,
+    acceleration: Vec<Vec2>,
+}
+
+impl Cohesion {
+    /// The cohesion of a fluid of density ρ and surface tension σ on particles spaced δr
+    /// with kernel support r_c; with `contact_angle` θ, the flat faces of `walls` attract it
+    /// with S_w = S(1 + cos θ)/2.
+    pub fn new(
+        (surface_tension, density): (f64, f64),
+        spacing: f64,
+        support: f64,
+        walls: (&[Shape], Option<f64>),
+    ) -> Self {
+        let bump = QuinticSpline::new(support / 6.0);
+        let centre = 1.5 * support;
+        let b = |r: f64| bump.value((r - centre).abs());
+        let moment = |k: i32| simpson(|r| r.powi(k) * b(r), support, 2.0 * support);
+        let strength = 3.0 * surface_tension / moment(3);
+        let (shapes, contact_angle) = walls;
+        let (walls, wall_pull) = match contact_angle {
+            Some(theta) => {
+                let pull = 0.5 * strength * (1.0 + theta.cos()) / density;
+                let reach = 2.0 * support;
+                let table = (0..=WALL_TABLE)
+                    .map(|k| {
+                        let d = reach * k as f64 / WALL_TABLE as f64;
+                        pull * half_plane_pull(&b, (support, reach), d)
+                    })
+                    .collect();
+                let flat = shapes
+                    .iter()
+                    .copied()
+                    .filter(|s| matches!(s, Shape::Plane(_) | Shape::Plate(_)));
+                (flat.collect(), table)
+            }
+            None => (Vec::new(), Vec::new()),
+        };
+        Self {
+            bump,
+            centre,
+            reach: 2.0 * support,
+            scale: strength / density * spacing * spacing,
+            walls,
+            wall_pull,
+            flat_pressure: 0.5 * std::f64::consts::PI * strength * moment(2),
+            search: NeighbourSearch::new(),
+            list: NeighbourList::default(),
+            acceleration: Vec::new(),
+        }
+    }
+
+    /// Heap bytes held.
+    pub fn heap_bytes(&self) -> usize {
+        self.search.heap_bytes()
+            + self.list.heap_bytes()
+            + crate::engine::vec_bytes(&self.acceleration)
+            + crate::engine::vec_bytes(&self.wall_pull)
+    }
+
+    /// The cohesion and wall accelerations of the fluid particles at `points` (one list of
+    /// pairs within 2r_c, searched afresh each step).
+    pub fn accelerations(&mut self, domain: &Domain, points: &[Vec2]) -> &[Vec2] {
+        let reach = self.reach;
+        let n = points.len();
+        self.search.build(domain, points, n, reach, &mut self.list);
+        self.acceleration.resize(n, Vec2::zeros());
+        let (list, bump, centre, scale) = (&self.list, &self.bump, self.centre, self.scale);
+        let (walls, table) = (&self.walls, &self.wall_pull);
+        self.acceleration
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(i, a)| {
+                let mut sum = Vec2::zeros();
+                for k in list.range(i) {
+                    let d = list.rij[k];
+                    let r = d.norm();
+                    sum -= bump.value((r - centre).abs()) / r * d;
+                }
+                *a = scale * sum;
+                for wall in walls {
+                    if let Some((distance, normal)) = wall.face(&points[i]) {
+                        *a -= lookup(table, distance, reach) * normal;
+                    }
+                }
+            });
+        &self.acceleration
+    }
+}
+
+/// The table's value at `d` ∈ [0, reach] (linear; 0 beyond).
+fn lookup(table: &[f64], d: f64, reach: f64) -> f64 {
+    if table.is_empty() || d >= reach {
+        return 0.0;
+    }
+    let x = d.max(0.0) / reach * (table.len() - 1) as f64;
+    let k = (x as usize).min(table.len() - 2);
+    let f = x - k as f64;
+    table[k] * (1.0 - f) + table[k + 1] * f
+}
+
+/// g(d) = ∫_{y>d} b(r) y/r dA for b vanishing outside [inner, outer]: on the circle of
+/// radius r the arc beyond the line y = d, weighted by y/r = sin φ, has
+/// ∫ sin φ r dφ = 2√(r² − d²), so g(d) = ∫_{max(d, inner)}^{outer} b(r) 2√(r² − d²) dr.
+fn half_plane_pull(b: &impl Fn(f64) -> f64, (inner, outer): (f64, f64), d: f64) -> f64 {
+    let from = d.max(inner);
+    if from >= outer {
+        return 0.0;
+    }
+    simpson(
+        |r| b(r) * 2.0 * (r * r - d * d).max(0.0).sqrt(),
+        from,
+        outer,
+    )
+}
+
+/// ∫_a^b f by composite Simpson with [`QUADRATURE`] intervals.
+fn simpson(f: impl Fn(f64) -> f64, a: f64, b: f64) -> f64 {
+    let h = (b - a) / QUADRATURE as f64;
+    let inner: f64 = (1..QUADRATURE)
+        .map(|k| f(a + k as f64 * h) * if k % 2 == 1 { 4.0 } else { 2.0 })
+        .sum();
+    (f(a) + f(b) + inner) * h / 3.0
+}
