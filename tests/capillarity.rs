@@ -64,6 +64,77 @@ fn oscillating_drop_has_the_capillary_period() {
     );
 }
 
+/// The damping of a viscous drop (η = 0.05, Oh = 0.05, R/δr = 20) against the exact linear
+/// theory of the 2D liquid cylinder (`analysis::analytic::drop_oscillation`; the summary's
+/// `theory_decay_rate` = 0.1773, period 2.590). Measured: decay 0.1902 (+7.3 %), period
+/// 2.570 (−0.8 %). Bound 10 % on the decay: the scheme's own damping adds about 0.01 at this
+/// resolution (measured at η = 0.005, 0.01, 0.05: +0.0085, +0.010, +0.013; +0.002 at
+/// R/δr = 40), and Lamb's weak-damping value 4ν/R² = 0.200 lies 12.8 % above the exact one,
+/// so the test tells the two theories apart. 2 % on the period.
+#[test]
+fn viscous_drop_decays_at_the_linear_theory_rate() {
+    let case = drop_case(
+        "oscillating-drop.toml",
+        &["scene.resolution=40", "fluid.viscosity=0.05"],
+    );
+    let (s, dir) = run_quiet(&case, false);
+    assert_eq!(s.outcome, Outcome::Finished, "{:?}", s.reason);
+    let d = drop_summary(dir.path());
+    let (gamma, theory) = (d["decay_rate"].as_f64(), d["theory_decay_rate"].as_f64());
+    let (gamma, theory) = (gamma.expect("a decay"), theory.expect("a theory"));
+    assert!((theory - 0.1773).abs() < 1e-3, "theory {theory}");
+    assert!(
+        (gamma / theory - 1.0).abs() < 0.10,
+        "decay {gamma}, theory {theory}"
+    );
+    let period = d["oscillation_period"].as_f64().unwrap();
+    let exact = d["theory_period"].as_f64().unwrap();
+    assert!(
+        (period / exact - 1.0).abs() < 0.02,
+        "period {period}, theory {exact}"
+    );
+}
+
+/// An Oldroyd-B drop (η0 = 0.05, β = 0.2, λ = 1: De = ω0λ = 2.45, R/δr = 20) against the
+/// linear theory with the complex viscosity η_s + η_p/(1 + λs): period 2.515, decay 0.0644,
+/// a third of the Newtonian drop's of the same η0 (0.177) because the polymer's damping falls
+/// as 1/(1 + De²). Measured: period 2.478 (−1.5 %), decay 0.0877 (+36 %). The excess is the
+/// scheme's, not the theory's: it is the polymer stress divergence at the free surface
+/// (the positive form (20)); with α_V = 1 the same drop decays at 0.0573 (−11 %), and it
+/// does not shrink with resolution (λ = 0.1: +41, +24, +20 % at R/δr = 10, 20, 40; README).
+/// Bounds: 3 % on the period; the decay between the theory's and half the Newtonian
+/// drop's, so the test fails if the polymer's memory were lost (the drop would decay as
+/// the Newtonian one, 0.19) or if the polymer stress did not damp at all (η_s alone: 0.038).
+#[test]
+fn oldroyd_b_drop_follows_the_complex_viscosity() {
+    let case = drop_case(
+        "oscillating-drop.toml",
+        &[
+            "scene.resolution=40",
+            "fluid.model=oldroyd-b",
+            "fluid.viscosity=0.05",
+            "fluid.beta=0.2",
+            "fluid.relaxation_time=1",
+        ],
+    );
+    let (s, dir) = run_quiet(&case, false);
+    assert_eq!(s.outcome, Outcome::Finished, "{:?}", s.reason);
+    let d = drop_summary(dir.path());
+    let period = d["oscillation_period"].as_f64().unwrap();
+    let exact = d["theory_period"].as_f64().unwrap();
+    assert!(
+        (period / exact - 1.0).abs() < 0.03,
+        "period {period}, theory {exact}"
+    );
+    let gamma = d["decay_rate"].as_f64().unwrap();
+    let theory = d["theory_decay_rate"].as_f64().unwrap();
+    assert!((theory - 0.0644).abs() < 1e-3, "theory {theory}");
+    assert!(
+        gamma > 0.9 * theory && gamma < 0.095,
+        "decay {gamma}, theory {theory}"
+    );
+}
+
 /// Surface tension needs a free surface: a channel refuses it, naming the key.
 #[test]
 fn surface_tension_needs_a_free_surface() {
