@@ -95,7 +95,8 @@ fn viscous_drop_decays_at_the_linear_theory_rate() {
     );
 }
 
-/// An Oldroyd-B drop (η0 = 0.05, β = 0.2, λ = 1: De = ω0λ = 2.45, R/δr = 20) against the
+/// `cases/oscillating-drop-oldroyd-b.toml` (η0 = 0.05, β = 0.2, λ = 1: De = ω0λ = 2.45,
+/// R/δr = 20) against the
 /// linear theory with the complex viscosity η_s + η_p/(1 + λs): period 2.515, decay 0.0644,
 /// a third of the Newtonian drop's of the same η0 (0.177) because the polymer's damping falls
 /// as 1/(1 + De²). Measured: period 2.478 (−1.5 %), decay 0.0877 (+36 %). The excess is the
@@ -107,16 +108,7 @@ fn viscous_drop_decays_at_the_linear_theory_rate() {
 /// the Newtonian one, 0.19) or if the polymer stress did not damp at all (η_s alone: 0.038).
 #[test]
 fn oldroyd_b_drop_follows_the_complex_viscosity() {
-    let case = drop_case(
-        "oscillating-drop.toml",
-        &[
-            "scene.resolution=40",
-            "fluid.model=oldroyd-b",
-            "fluid.viscosity=0.05",
-            "fluid.beta=0.2",
-            "fluid.relaxation_time=1",
-        ],
-    );
+    let case = drop_case("oscillating-drop-oldroyd-b.toml", &[]);
     let (s, dir) = run_quiet(&case, false);
     assert_eq!(s.outcome, Outcome::Finished, "{:?}", s.reason);
     let d = drop_summary(dir.path());
