@@ -127,6 +127,51 @@ fn oldroyd_b_drop_follows_the_complex_viscosity() {
     );
 }
 
+/// The seed's cohesion force (scheme.surface_tension = "cohesion") in the weakly compressible
+/// scheme: a drop of R = 0.75 at δr = 0.05 (R/δr = 15, σ = 1, c = 50, Monaghan α = 1 to damp
+/// its breathing, to t = 3) holds together, and its interior pressure is the flat surface's
+/// cohesive pressure K (15.92, the mean field's, `Cohesion::flat_pressure`) plus σ_eff/R.
+/// Measured 17.66 at t = 4 against K + σ/R = 17.25 (+2.4 %). The Laplace test over R = 0.75,
+/// 1, 1.5 (README) gives p0 = 16.01 (K + 0.6 %) and σ_eff = 1.20σ; the breathing left
+/// ±0.1 in the late mean. Bound 5 %: the Laplace part σ/R is 7.7 % of the pressure, so a
+/// drop without surface tension beyond K would pass, but one without the cohesion force (p
+/// ≈ 0) or with K of a wrong normalisation (a factor 2π or ρ) would not.
+#[test]
+fn cohesion_drop_holds_the_cohesive_and_laplace_pressure() {
+    let case = drop_case(
+        "static-drop.toml",
+        &[
+            "scene.resolution=30",
+            "scene.drop.diameter=1.5",
+            "scene.length=3.75",
+            "scene.height=3.75",
+            "scene.drop.centre_height=1.875",
+            "scheme.surface_tension=cohesion",
+            "scheme.method=wcsph",
+            "scheme.sound_speed=50",
+            "scheme.artificial_viscosity=1",
+            "scheme.density_diffusion=0.1",
+            "run.end_time=3",
+        ],
+    );
+    let (s, dir) = run_quiet(&case, false);
+    assert_eq!(s.outcome, Outcome::Finished, "{:?}", s.reason);
+    let support = rheosph::engine::kernel::QuinticSpline::for_spacing(0.05).support();
+    let none: &[rheosph::engine::boundary::Shape] = &[];
+    let k = rheosph::engine::free_surface::Cohesion::new((1.0, 1.0), 0.05, support, (none, None))
+        .flat_pressure;
+    assert!((k - 15.92).abs() < 0.01, "K {k}");
+    let d = drop_summary(dir.path());
+    let p = d["interior_pressure"].as_f64().unwrap();
+    let laplace = k + 1.0 / 0.75;
+    assert!(
+        (p / laplace - 1.0).abs() < 0.05,
+        "interior pressure {p}, K + σ/R {laplace}"
+    );
+    let width = d["final_width_star"].as_f64().unwrap();
+    assert!((width - 1.0).abs() < 0.02, "the drop's width {width}");
+}
+
 /// Surface tension needs a free surface: a channel refuses it, naming the key.
 #[test]
 fn surface_tension_needs_a_free_surface() {

@@ -101,6 +101,15 @@ pub fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
             "a contact angle needs a surface tension (set fluid.surface_tension > 0)",
         ));
     }
+    if scheme.surface_tension == SurfaceTensionForm::Cohesion && scheme.method == Method::Projection
+    {
+        // README, *Cohesion*: the projection's Dirichlet rows carry none of the cohesive
+        // pressure, and a static drop's surface ring drifted out until it broke down.
+        return Err(field_err(
+            "scheme.surface_tension",
+            "the cohesion force needs the weakly compressible scheme (scheme.method = \"wcsph\"): with the projection the drop's surface rows do not hold its cohesive pressure",
+        ));
+    }
     let run = run(&raw.run, scene.as_ref(), fluid.relaxation_time)?;
     Ok(Case {
         name: name.to_string(),
