@@ -24,9 +24,11 @@
 //! cloud is not the integral, so the σ the scheme actually has is measured by the Laplace
 //! test (drops of three radii, p_in = p_0 + σ_eff/R; README). The same force pulls the
 //! particles near a free surface inward with a cohesive pressure that a flat surface
-//! already has, K = (π/2) S ∫₀^∞ r² b(r) dr (the mean field's a n²): the pressure a drop's
-//! interior carries is p_0 ≈ K less what the Dirichlet particles inside the layer hold,
-//! plus σ/R.
+//! already has, K = (π/2) S ∫₀^∞ r² b(r) dr (the mean field's a n²). The force is
+//! conservative, f = −∇U with U = S∫B(|x − y|)dy (B' = b), so a drop's interior carries
+//! p_in = p_s + K + σ/R to first order in r_c/R. K is some 16 times σ/R, and the
+//! projection's Dirichlet surface rows cannot hold it (README): the variant is for the
+//! weakly compressible scheme, as in the seed.
 //!
 //! Wetting (the seed's fluid–wall attraction). The cohesion sum runs over fluid particles
 //! only, so a wall is a vacuum to it: alone it would not wet at all (θ = 180°). A flat
