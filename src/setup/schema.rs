@@ -191,6 +191,9 @@ pub struct SchemeSpec {
     /// WCSPH: Monaghan's artificial viscosity α_Π (Fang et al.: 1) and β_Π (Fang et al.: 2).
     pub artificial_viscosity: f64,
     pub artificial_viscosity_beta: f64,
+    /// WCSPH: v0 of the shear-rate dependent artificial viscosity of Wróblewski et al.
+    /// (2008, eq. (10)) (unset: Monaghan's).
+    pub artificial_viscosity_velocity: Option<f64>,
     /// WCSPH: the artificial stress ε (0 = off; Fang et al.: 0.5 Oldroyd-B, 0.2 Newtonian)
     /// and its exponent n.
     pub artificial_stress: f64,
@@ -268,6 +271,7 @@ impl Default for SchemeSpec {
             mach: crate::engine::weakly_compressible::DEFAULT_MACH,
             artificial_viscosity: 0.0,
             artificial_viscosity_beta: 0.0,
+            artificial_viscosity_velocity: None,
             artificial_stress: 0.0,
             artificial_stress_exponent: 4,
             density_diffusion: 0.0,

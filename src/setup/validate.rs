@@ -486,7 +486,14 @@ fn method(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Method, Fi
     )?;
     Ok(Method::WeaklyCompressible(WeaklyCompressible {
         sound_speed,
-        viscosity: ArtificialViscosity { alpha, beta },
+        viscosity: ArtificialViscosity {
+            alpha,
+            beta,
+            velocity_scale: s
+                .artificial_viscosity_velocity
+                .map(|v| positive("scheme.artificial_viscosity_velocity", v))
+                .transpose()?,
+        },
         stress: ArtificialStress {
             epsilon,
             exponent: s.artificial_stress_exponent,

@@ -98,14 +98,15 @@ impl FreeSurfaceStage {
     }
 
     /// Step 5: the Dirichlet pressure of every row (zero off the surface), from the
-    /// predictor's velocity u* (fluid values, then the ghosts') and A^{n+½}, plus the
+    /// predictor's velocity u* (fluid values, then the ghosts'), a generalised Newtonian
+    /// fluid's viscosity factor φ = η(γ̇)/η0 (empty: uniform) and A^{n+½}, plus the
     /// capillary jump σκ where the rule's value is trusted (not an inflow row, not a sparse
     /// splash: [`pressure::MIN_SURFACE_NEIGHBOURS`]). `points` are the positions of the
     /// rows (fluid first).
     pub fn dirichlet_pressure(
         &mut self,
         (list, sums, points): (&NeighbourList, &KernelSums, &[Vec2]),
-        fluid: &Fluid,
+        (fluid, viscosity_factor): (&Fluid, &[f64]),
         velocity_star: &[Vec2],
         conformation: &[Sym2],
         prescribed: &[bool],
@@ -114,6 +115,7 @@ impl FreeSurfaceStage {
             list,
             sums,
             surface: &self.surface,
+            viscosity_factor,
             velocity_star,
             fluid,
             conformation,

@@ -44,6 +44,8 @@ pub struct SurfaceInputs<'a> {
     pub list: &'a NeighbourList,
     pub sums: &'a KernelSums,
     pub surface: &'a FreeSurface,
+    /// φ = η(γ̇)/η0 per row of a generalised Newtonian fluid (empty: a uniform viscosity).
+    pub viscosity_factor: &'a [f64],
     /// The predictor's velocity u*, fluid values followed by the ghosts'.
     pub velocity_star: &'a [Vec2],
     pub fluid: &'a Fluid,
@@ -71,7 +73,8 @@ impl SurfacePressureRule for Zero {
     fn pressure(&mut self, _inputs: &SurfaceInputs, _out: &mut [f64]) {}
 }
 
-/// The normal-stress balance (35a), with ∇u* of the predictor.
+/// The normal-stress balance (35a), with ∇u* of the predictor and, for a generalised
+/// Newtonian fluid, its viscosity η(γ̇^n) at each particle in place of η_s.
 #[derive(Default)]
 pub struct NormalStress {
     grad_u_star: Vec<Mat2>,
@@ -93,6 +96,7 @@ impl SurfacePressureRule for NormalStress {
         );
         let (conformation, list, prescribed) =
             (inputs.conformation, inputs.list, inputs.prescribed);
+        let factor = inputs.viscosity_factor;
         out.par_iter_mut()
             .enumerate()
             .filter(|(i, _)| fs[*i] && !prescribed.get(*i).copied().unwrap_or(false))
@@ -103,7 +107,9 @@ impl SurfacePressureRule for NormalStress {
                 } else {
                     fluid.polymer_stress(&conformation[i])
                 };
-                *p = normal_stress_pressure(normal[i], &grad[i], &tau, eta_s);
+                // A shear-dependent viscosity's own η(γ̇) at the particle.
+                let eta = factor.get(i).map_or(eta_s, |phi| phi * eta_s);
+                *p = normal_stress_pressure(normal[i], &grad[i], &tau, eta);
             });
     }
 

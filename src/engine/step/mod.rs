@@ -593,9 +593,10 @@ impl Simulation {
             let hood = st.hood.parts();
             st.pressure.divergence(hood, &st.velocity_star);
             let dirichlet = st.free_surface.as_mut().map(|fs| {
+                let factor = st.shear_viscosity.as_ref().map_or(&[][..], |v| v.factor());
                 let values = fs.dirichlet_pressure(
                     (hood.0, hood.1, &st.hood.points),
-                    fluid,
+                    (fluid, factor),
                     st.pressure.velocity_star_ext(),
                     &s.conformation,
                     buffer,
