@@ -135,16 +135,16 @@ impl Simulation {
         } else {
             Vec::new()
         };
+        let kernel = QuinticSpline::for_spacing(setup.spacing);
         let mut walls = setup.walls;
         let cohesive = scheme.surface_tension == SurfaceTensionForm::Cohesion;
         let cohesion = (cohesive && fluid.surface_tension > 0.0).then(|| {
             let shapes: Vec<_> = walls.iter().map(|w| w.shape).collect();
-            let support = QuinticSpline::for_spacing(setup.spacing).support();
             let material = (fluid.surface_tension, fluid.density);
             Cohesion::new(
                 material,
                 setup.spacing,
-                support,
+                kernel.support(),
                 (&shapes, setup.contact_angle),
             )
         });
@@ -167,7 +167,6 @@ impl Simulation {
         } else {
             DivergenceForm::Negative
         };
-        let kernel = QuinticSpline::for_spacing(setup.spacing);
         let stages = Stages {
             reordering: Reordering::new(scheme.reorder, scheme.frame.moves_particles()),
             hood: Neighbourhood::new(ghosts),

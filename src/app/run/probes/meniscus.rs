@@ -329,7 +329,7 @@ impl Probe for MeniscusProbe {
         dir: &Path,
         charts: Option<FigureFormat>,
     ) -> Result<Option<serde_json::Value>> {
-        self.write(dir)?;
+        // meniscus.csv is already written with the series (`Probe::write`).
         if let Some(format) = charts {
             self.chart(dir, format)?;
         }
