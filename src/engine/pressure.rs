@@ -183,6 +183,18 @@ impl PressureStage {
         self.system.assemble_rhs(&self.divergence, dt, rows, values);
     }
 
+    /// Step 5, for the pressure itself (not an increment): the ghosts' offsets of
+    /// [`WallPressure::Momentum`](crate::engine::boundary::WallPressure) moved to the
+    /// right-hand side ([`wall_pressure_rhs`]). Dirichlet rows (`rows`) keep their value.
+    pub fn add_wall_pressure(
+        &mut self,
+        hood: (&NeighbourList, &KernelSums, &Ghosts),
+        density: f64,
+        rows: &[bool],
+    ) {
+        wall_pressure_rhs(hood, density, rows, &mut self.system.rhs);
+    }
+
     /// Step 5: solves for `unknown` (its initial guess on entry). `dirichlet`: some rows are
     /// Dirichlet rows (otherwise the pressure is defined up to a constant).
     pub fn solve(
@@ -214,15 +226,20 @@ impl PressureStage {
         self.system.solve(unknown, &options)
     }
 
-    /// Step 6, eq. (26): u* −= (δt/ρ)∇φ, φ the solved field (p^{n+1} or its increment).
+    /// Step 6, eq. (26): u* −= (δt/ρ)∇φ, φ the solved field (p^{n+1}, `full`, whose ghosts
+    /// carry the wall's offsets, or its increment, whose ghosts do not).
     pub fn project(
         &mut self,
         (list, sums, ghosts): (&NeighbourList, &KernelSums, &Ghosts),
-        solved: &[f64],
+        (solved, full): (&[f64], bool),
         dt_over_rho: f64,
         velocity_star: &mut [Vec2],
     ) {
-        ghosts.extend_pressure(solved, &mut self.pressure_ext);
+        if full {
+            ghosts.extend_full_pressure(solved, &mut self.pressure_ext);
+        } else {
+            ghosts.extend_pressure(solved, &mut self.pressure_ext);
+        }
         self.gradient.resize(velocity_star.len(), Vec2::zeros());
         sums.gradient_scalar(list, &self.pressure_ext, &mut self.gradient);
         velocity_star
@@ -245,4 +262,32 @@ impl PressureStage {
     pub fn factorisations(&self) -> usize {
         self.system.factorisations()
     }
+}
+
+/// Row i of `−∇²p/ρ` holds `−(1/ρ) Σ_j w_ij (p_i − p_j)`, and a ghost of
+/// [`WallPressure::Momentum`](crate::engine::boundary::WallPressure) carries `p_g = p_k + c_g`:
+/// its constant part `(1/ρ) Σ_g w_ig c_g` leaves the folded matrix for `rhs`. Rows flagged
+/// in `rows` (Dirichlet) are left alone; nothing to do without offsets.
+pub fn wall_pressure_rhs(
+    (list, sums, ghosts): (&NeighbourList, &KernelSums, &Ghosts),
+    density: f64,
+    rows: &[bool],
+    rhs: &mut [f64],
+) {
+    let offsets = ghosts.pressure_offsets();
+    if offsets.is_empty() {
+        return;
+    }
+    let n = rhs.len();
+    rhs.par_iter_mut()
+        .enumerate()
+        .filter(|(i, _)| !rows.get(*i).copied().unwrap_or(false))
+        .for_each(|(i, b)| {
+            let constant: f64 = list
+                .range(i)
+                .filter(|&k| list.index[k] as usize >= n)
+                .map(|k| sums.laplacian_weight(list, k) * offsets[list.index[k] as usize - n])
+                .sum();
+            *b -= constant / density;
+        });
 }

@@ -2,7 +2,7 @@
 //! builds one stage object per choice ([`crate::engine::step::Simulation::new`]); nothing
 //! re-tests these inside the time loop.
 
-use crate::engine::boundary::{TensorMirror, WallModel};
+use crate::engine::boundary::{TensorMirror, WallModel, WallPressure};
 use crate::engine::frame::Frame;
 use crate::engine::free_surface::{SurfacePressure, SurfaceTensionForm};
 use crate::engine::kinematics::ConstitutiveGradient;
@@ -47,6 +47,8 @@ pub struct Scheme {
     pub wall_conformation: TensorMirror,
     /// Mirrors or a fixed ghost lattice behind plane walls.
     pub wall_model: WallModel,
+    /// The Neumann condition of the wall pressure: ∂p/∂n = 0 or the normal momentum balance.
+    pub wall_pressure: WallPressure,
     /// Free surfaces: the Dirichlet pressure rule.
     pub free_surface_pressure: SurfacePressure,
     /// Free surfaces: the repulsive term of (42)–(44) in the shifting of internal particles.

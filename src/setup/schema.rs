@@ -3,7 +3,7 @@
 //! model has it), so that every error names its dotted field. Serialized back into the run
 //! directory (`case.toml`) and the summary.
 
-use crate::engine::boundary::{TensorMirror, WallModel};
+use crate::engine::boundary::{TensorMirror, WallModel, WallPressure};
 use crate::engine::frame::Frame;
 use crate::engine::free_surface::{SurfacePressure, SurfaceTensionForm};
 use crate::engine::rheology::{ConformationScheme, Remap};
@@ -251,6 +251,9 @@ pub struct SchemeSpec {
     pub wall_conformation: TensorMirror,
     /// `mirror` or `fixed-ghost`: how the particles behind plane walls are placed.
     pub wall_model: WallModel,
+    /// `neumann` (∂p/∂n = 0, the paper's) or `momentum` (∂p/∂n = n·(∇·Φ + ρg), see
+    /// `engine::boundary::wall_pressure`): the pressure the wall ghosts carry.
+    pub wall_pressure: WallPressure,
     /// `auto`, `standard` or `incremental` pressure projection.
     pub projection: ProjectionChoice,
     /// Free surfaces: `normal-stress` (35a) or `zero` Dirichlet pressure.
@@ -302,6 +305,7 @@ impl Default for SchemeSpec {
             viscous_tolerance: 1e-10,
             wall_conformation: TensorMirror::Even,
             wall_model: WallModel::Mirror,
+            wall_pressure: WallPressure::Neumann,
             projection: ProjectionChoice::Auto,
             free_surface_pressure: SurfacePressure::NormalStress,
             surface_repulsion: true,

@@ -320,21 +320,7 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
         .neighbour_skin
         .map(|v| in_range("scheme.neighbour_skin", v, 0.0, 4.0))
         .transpose()?;
-    if !(s.dt_factor.is_finite() && s.dt_factor > 0.0) {
-        return Err(field_err(
-            "scheme.dt_factor",
-            format!("must be a positive number, got {}", s.dt_factor),
-        ));
-    }
-    if !(s.ppe_tolerance > 0.0 && s.ppe_tolerance < 1.0) {
-        return Err(field_err(
-            "scheme.ppe_tolerance",
-            format!("must be in (0, 1), got {}", s.ppe_tolerance),
-        ));
-    }
-    if s.ppe_max_iterations == 0 {
-        return Err(field_err("scheme.ppe_max_iterations", "must be at least 1"));
-    }
+    solver_numbers(s)?;
     Ok(Scheme {
         method,
         time_step,
@@ -402,10 +388,31 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
         viscous_tolerance,
         wall_conformation: s.wall_conformation,
         wall_model: s.wall_model,
+        wall_pressure: s.wall_pressure,
         free_surface_pressure: s.free_surface_pressure,
         surface_repulsion: s.surface_repulsion,
         surface_tension: s.surface_tension,
     })
+}
+
+/// The step factor and the PPE's stopping rule: positive, in range.
+fn solver_numbers(s: &SchemeSpec) -> Result<(), FieldError> {
+    if !(s.dt_factor.is_finite() && s.dt_factor > 0.0) {
+        return Err(field_err(
+            "scheme.dt_factor",
+            format!("must be a positive number, got {}", s.dt_factor),
+        ));
+    }
+    if !(s.ppe_tolerance > 0.0 && s.ppe_tolerance < 1.0) {
+        return Err(field_err(
+            "scheme.ppe_tolerance",
+            format!("must be in (0, 1), got {}", s.ppe_tolerance),
+        ));
+    }
+    if s.ppe_max_iterations == 0 {
+        return Err(field_err("scheme.ppe_max_iterations", "must be at least 1"));
+    }
+    Ok(())
 }
 
 /// The time integrator and, for the weakly compressible one, its settings; what it cannot

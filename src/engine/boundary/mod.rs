@@ -11,12 +11,14 @@ pub mod condition;
 pub mod fixed;
 pub mod inflow;
 pub mod shape;
+pub mod wall_pressure;
 
 pub use condition::{
     NoSlip, RegularisedLid, RigidNoSlip, SlidingNoSlip, TensorMirror, WallCondition,
 };
 pub use fixed::WallModel;
 pub use shape::{Circle, Corner, Plane, Plate, Shape};
+pub use wall_pressure::WallPressure;
 
 use crate::engine::math::{Sym2, Vec2};
 use crate::engine::neighbours::Domain;
@@ -116,6 +118,9 @@ pub struct Ghosts {
     /// Each wall's s and s_p (see [`condition`]).
     velocity_sign: Vec<f64>,
     pressure_sign: Vec<f64>,
+    /// c_g of `p_g = s_p p_k + c_g` for the pressure itself, set each step under
+    /// [`WallPressure::Momentum`] (empty: homogeneous Neumann; see [`wall_pressure`]).
+    pressure_offset: Vec<f64>,
     /// The box whose periodic axes circles are seen across (None: no periodic images).
     pub domain: Option<Domain>,
     /// δr of the fixed ghost lattice behind every wall (None: mirrors).
@@ -144,6 +149,7 @@ impl Ghosts {
             + b(&self.volume)
             + b(&self.normal)
             + b(&self.offset)
+            + b(&self.pressure_offset)
             + b(&self.near)
             + b(&self.lattice_ghosts)
             + b(&self.built_shapes)
@@ -196,6 +202,7 @@ impl Ghosts {
         self.volume.clear();
         self.normal.clear();
         self.offset.clear();
+        self.pressure_offset.clear();
         self.built_shapes.clear();
         self.built_shapes.extend(self.walls.iter().map(|w| w.shape));
         let moving = self.walls.iter().any(|w| w.condition.moves());
@@ -250,6 +257,7 @@ impl Ghosts {
     /// normals and offsets: the same mirrors, in the same order, for a Verlet skin.
     pub fn refresh(&mut self, points: &mut Vec<Vec2>) {
         let moving = self.walls.iter().any(|w| w.condition.moves());
+        self.pressure_offset.clear();
         for g in 0..self.parent.len() {
             let wall = &self.walls[self.wall[g] as usize];
             let parent = points[self.parent[g] as usize];
@@ -362,7 +370,9 @@ impl Ghosts {
         out.extend_from_slice(&self.offset);
     }
 
-    /// Fluid pressures followed by the ghosts' `p_j = s_p p_i`.
+    /// Fluid pressures followed by the ghosts' `p_j = s_p p_i`: an increment's, or the
+    /// pressure's under the homogeneous Neumann condition (the pressure itself takes
+    /// [`Self::extend_full_pressure`]).
     pub fn extend_pressure(&self, fluid: &[f64], out: &mut Vec<f64>) {
         out.clear();
         out.extend_from_slice(fluid);

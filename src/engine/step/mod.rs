@@ -24,7 +24,7 @@ use crate::engine::bodies::contact::Contact;
 use crate::engine::bodies::traction::FluidView;
 use crate::engine::bodies::{Bodies, Coupling, Disc, DiscMotion};
 use crate::engine::boundary::inflow::Inflow;
-use crate::engine::boundary::{Ghosts, Wall};
+use crate::engine::boundary::{Ghosts, Wall, WallPressure};
 use crate::engine::drive::{bulk_velocity, Drive};
 use crate::engine::free_surface::{
     Cohesion, FreeSurface, FreeSurfaceStage, SurfaceTensionForm, Wetting,
@@ -38,7 +38,7 @@ use crate::engine::operators::DivergenceForm;
 use crate::engine::ordering::Reordering;
 use crate::engine::predictor::{predict, PredictorTerms};
 use crate::engine::pressure::PressureStage;
-use crate::engine::projection::ProjectionStage;
+use crate::engine::projection::{Projection, ProjectionStage};
 use crate::engine::rheology::{ConformationStage, Fluid};
 use crate::engine::scheme::{Method, Scheme};
 use crate::engine::shifting::{ShiftInputs, ShiftRule, Shifting};
@@ -106,6 +106,9 @@ struct Stages {
     weak: Option<WeakStage>,
     /// A surface tension as a cohesion force (None: none, or the capillary jump σκ).
     cohesion: Option<Cohesion>,
+    /// Under [`WallPressure::Momentum`], the force density ∇·Φ + ρg whose normal part the
+    /// wall ghosts' pressure continues (None: ∂p/∂n = 0).
+    wall_force: Option<Vec<Vec2>>,
 }
 
 /// A running simulation.
@@ -212,6 +215,7 @@ impl Simulation {
                 }
             },
             cohesion,
+            wall_force: (scheme.wall_pressure == WallPressure::Momentum).then(Vec::new),
         };
         let mut sim = Self {
             kernel,
@@ -371,6 +375,7 @@ impl Simulation {
         self.neighbourhoods();
         self.kinematics(dt);
         self.constitutive_update(dt);
+        self.wall_pressure();
         let viscous_iterations = self.predictor(dt)?;
         let ppe = if self.stages.weak.is_some() {
             self.continuity(dt);
@@ -603,8 +608,12 @@ impl Simulation {
                 st.projection.dirichlet_for_unknown(values, &s.pressure);
                 fs.dirichlet()
             });
-            st.pressure
-                .assemble(hood, fluid.density, dt, dirichlet.unwrap_or((&[], &[])));
+            let dirichlet = dirichlet.unwrap_or((&[], &[]));
+            st.pressure.assemble(hood, fluid.density, dt, dirichlet);
+            if st.projection.kind == Projection::Standard {
+                st.pressure
+                    .add_wall_pressure(hood, fluid.density, dirichlet.0);
+            }
         });
         let dirichlet = st
             .free_surface
@@ -645,14 +654,40 @@ impl Simulation {
         });
     }
 
+    /// Before step 4, under [`WallPressure::Momentum`]: the ghosts' pressure offsets from
+    /// this step's ∇·Φ^{n+½} and body force (see [`crate::engine::boundary::wall_pressure`]).
+    fn wall_pressure(&mut self) {
+        let st = &mut self.stages;
+        let Some(force) = st.wall_force.as_mut() else {
+            return;
+        };
+        let t0 = std::time::Instant::now();
+        let rho_g = self.fluid.density * self.state.body_force;
+        let n = self.state.position.len();
+        force.clear();
+        match st.conformation.as_ref().filter(|_| st.weak.is_none()) {
+            Some(c) => force.extend(c.stress_divergence().iter().map(|d| d + rho_g)),
+            None => force.resize(n, rho_g),
+        }
+        let hood = &mut st.hood;
+        hood.ghosts.set_pressure_gradient(&hood.points, force);
+        self.timers
+            .add(Stage::Predictor, t0.elapsed().as_secs_f64());
+    }
+
     /// Step 6: u^{n+1} = u* − (δt/ρ)∇p^{n+1} (or ∇ of the increment), written over u*.
     fn projection(&mut self, dt: f64) {
         let (st, s) = (&mut self.stages, &mut self.state);
         let (inflow, dt_over_rho) = (&self.inflow, dt / self.fluid.density);
         self.timers.time(Stage::Projection, || {
+            let full = st.projection.kind == Projection::Standard;
             let solved = st.projection.update_pressure(&mut s.pressure);
-            st.pressure
-                .project(st.hood.parts(), solved, dt_over_rho, &mut st.velocity_star);
+            st.pressure.project(
+                st.hood.parts(),
+                (solved, full),
+                dt_over_rho,
+                &mut st.velocity_star,
+            );
             if let Some(inflow) = inflow.as_ref() {
                 inflow.prescribe(&mut st.velocity_star, inflow.velocity);
             }

@@ -1,0 +1,205 @@
+//! The pressure a wall's ghosts carry: the Neumann condition of the PPE.
+//!
+//! King & Lind (§III C) give a mirror its parent's pressure, `p_j = p_i`: a homogeneous
+//! Neumann condition ∂p/∂n = 0. The normal momentum balance at a no-slip wall at rest says
+//! instead (Du/Dt·n = 0 there)
+//!
+//! ```text
+//!     ∂p/∂n = n·(∇·Φ + ρg) + η n·∇²u,
+//! ```
+//!
+//! and next to a curved wall n·∇·τ_p is the polymer's hoop stress T/R (T the tension along
+//! the streamlines wrapped round it): at the Wi = 4 cylinder array (R/δr = 9) it reached
+//! 2 000–4 800 (in units of ρU²/R) on the particles that later crossed the cylinder, and the
+//! pressure gradient that balanced it 1.2δr from the wall fell to zero 0.6δr from it (README,
+//! *High Weissenberg number*). Adami, Hu & Adams (2012) put the body force (and the wall's
+//! acceleration) into the wall pressure for the same reason.
+//!
+//! [`WallPressure::Momentum`] keeps the polymer and body-force part of that balance: ghost g
+//! of parent k carries
+//!
+//! ```text
+//!     p_g = p_k + ((r_g − r_k)·n) (n·f_k),   f_k = (∇·Φ)_k + ρg,
+//! ```
+//!
+//! the Taylor step from the parent along the wall normal n with the gradient the balance
+//! gives (the viscous part, which needs ∇²u at the wall, is left out). The offsets apply to
+//! the pressure itself, never to the increment of the incremental projection (whose old
+//! pressure carries them), and not to walls whose pressure sign is −1.
+
+use super::Ghosts;
+use crate::engine::math::Vec2;
+use serde::{Deserialize, Serialize};
+
+/// The Neumann condition of the wall pressure.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum WallPressure {
+    /// `p_j = p_i` (King & Lind): ∂p/∂n = 0.
+    #[default]
+    Neumann,
+    /// ∂p/∂n = n·(∇·Φ + ρg), the normal momentum balance (module docs).
+    Momentum,
+}
+
+impl Ghosts {
+    /// Sets every ghost's pressure offset from the force density `force` (∇·Φ + ρg per
+    /// fluid particle) and the positions `points` (fluid, then ghosts, as built).
+    pub fn set_pressure_gradient(&mut self, points: &[Vec2], force: &[Vec2]) {
+        let n_fluid = points.len() - self.parent.len();
+        self.pressure_offset.clear();
+        for g in 0..self.parent.len() {
+            let k = self.parent[g] as usize;
+            if self.pressure_sign[self.wall[g] as usize] < 0.0 {
+                self.pressure_offset.push(0.0);
+                continue;
+            }
+            let d = points[n_fluid + g] - points[k];
+            let d = self.domain.as_ref().map_or(d, |domain| domain.min_image(d));
+            let n = self.normal[g];
+            self.pressure_offset.push(d.dot(&n) * n.dot(&force[k]));
+        }
+    }
+
+    /// Fluid pressures followed by the ghosts': the parent's by the wall's sign, plus the
+    /// offset of [`Self::set_pressure_gradient`] when one was set for these ghosts. For the
+    /// pressure itself; an increment takes [`Self::extend_pressure`].
+    pub fn extend_full_pressure(&self, fluid: &[f64], out: &mut Vec<f64>) {
+        self.extend_pressure(fluid, out);
+        if !self.pressure_offset.is_empty() {
+            let n = fluid.len();
+            for (p, c) in out[n..].iter_mut().zip(&self.pressure_offset) {
+                *p += c;
+            }
+        }
+    }
+
+    /// The pressure offsets of the ghosts (empty: homogeneous Neumann).
+    pub fn pressure_offsets(&self) -> &[f64] {
+        &self.pressure_offset
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::engine::boundary::{Circle, Plane, Shape, TensorMirror, Wall};
+
+    /// A pressure that is linear across a plane wall, p = p0 + f y, is carried exactly by
+    /// the mirrors when f is the normal force density; homogeneous mirrors carry p0 + f y_i.
+    #[test]
+    fn mirrors_continue_the_normal_gradient_of_the_balance() {
+        let plane = Shape::Plane(Plane {
+            axis: 1,
+            position: 0.0,
+            fluid_side: 1.0,
+        });
+        let mut ghosts = Ghosts::new(vec![Wall::no_slip(plane, TensorMirror::Even)]);
+        let mut points = vec![Vec2::new(0.3, 0.05), Vec2::new(0.7, 0.12)];
+        ghosts.build(0.2, &mut points);
+        assert_eq!(ghosts.len(), 2);
+        let (p0, f) = (2.0, -3.0);
+        let pressure: Vec<f64> = points[..2].iter().map(|r| p0 + f * r.y).collect();
+        let force = vec![Vec2::new(5.0, f); 2];
+        ghosts.set_pressure_gradient(&points, &force);
+        let mut ext = Vec::new();
+        ghosts.extend_full_pressure(&pressure, &mut ext);
+        for (g, p) in ext[2..].iter().enumerate() {
+            let exact = p0 + f * points[2 + g].y;
+            assert!((p - exact).abs() < 1e-12, "ghost {g}: {p} against {exact}");
+        }
+        // The tangential force (5) does not enter; the increment is not offset.
+        ghosts.extend_pressure(&pressure, &mut ext);
+        assert!((ext[2] - pressure[0]).abs() < 1e-15);
+    }
+
+    /// Across a circle the offset is the radial step times the radial force: a hoop
+    /// tension pulling inward (f_r < 0) raises the pressure inside the wall.
+    #[test]
+    fn a_hoop_pull_raises_the_mirror_pressure() {
+        let circle = Shape::Circle(Circle {
+            centre: Vec2::zeros(),
+            radius: 1.0,
+        });
+        let mut ghosts = Ghosts::new(vec![Wall::no_slip(circle, TensorMirror::Even)]);
+        let mut points = vec![Vec2::new(0.0, 1.05)];
+        ghosts.build(0.2, &mut points);
+        let force = vec![Vec2::new(0.0, -100.0)];
+        ghosts.set_pressure_gradient(&points, &force);
+        let offset = ghosts.pressure_offsets()[0];
+        let step = points[1].y - points[0].y;
+        assert!(step < 0.0);
+        assert!((offset - step * -100.0).abs() < 1e-12);
+        assert!(offset > 0.0);
+    }
+    /// The PPE with the offsets moved to its right-hand side
+    /// ([`crate::engine::pressure::wall_pressure_rhs`]) is solved by the hydrostatic field
+    /// p = F y of a fluid at rest under a force density F normal to two plane walls: the
+    /// folded matrix times that field equals the moved offsets to round-off. With
+    /// homogeneous mirrors the same field leaves a residual of order F/δr in the wall rows
+    /// (the PPE would flatten it there).
+    #[test]
+    fn the_ppe_holds_a_hydrostatic_pressure_between_walls() {
+        use crate::engine::boundary::Field;
+        use crate::engine::kernel::QuinticSpline;
+        use crate::engine::laplacian_matrix::LaplacianMatrix;
+        use crate::engine::neighbours::{Domain, NeighbourList, NeighbourSearch};
+        use crate::engine::operators::KernelSums;
+        let n_side = 12;
+        let dr = 1.0 / n_side as f64;
+        let kernel = QuinticSpline::for_spacing(dr);
+        let domain = Domain {
+            min: Vec2::zeros(),
+            max: Vec2::new(1.0, 1.0),
+            periodic: [true, false],
+        };
+        let mut points: Vec<Vec2> = (0..n_side * n_side)
+            .map(|k| Vec2::new((k / n_side) as f64 + 0.5, (k % n_side) as f64 + 0.5) * dr)
+            .collect();
+        let n = points.len();
+        let plane = |position, fluid_side| {
+            let axis = 1;
+            let shape = Shape::Plane(Plane {
+                axis,
+                position,
+                fluid_side,
+            });
+            Wall::no_slip(shape, TensorMirror::Even)
+        };
+        let mut ghosts = Ghosts::new(vec![plane(0.0, 1.0), plane(1.0, -1.0)]);
+        ghosts.build(kernel.support(), &mut points);
+        let mut list = NeighbourList::default();
+        NeighbourSearch::new().build(&domain, &points, n, kernel.support(), &mut list);
+        let mut sums = KernelSums::default();
+        sums.update(&list, &kernel, dr * dr);
+        let (density, force) = (1.0, -7.0);
+        let mut matrix = LaplacianMatrix::default();
+        matrix.assemble(
+            &list,
+            &sums,
+            &ghosts,
+            Field::Pressure,
+            0.0,
+            -1.0 / density,
+            &[],
+            &[],
+        );
+        let a = matrix.to_csr();
+        let p: Vec<f64> = points[..n].iter().map(|r| force * r.y).collect();
+        let mut ap = vec![0.0; n];
+        rheosph_solver::vector::spmv(&a, &p, &mut ap);
+        let flattened = ap.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        assert!(
+            flattened > 0.1 * force.abs() / dr,
+            "homogeneous mirrors: {flattened}"
+        );
+        ghosts.set_pressure_gradient(&points, &vec![Vec2::new(0.0, force); n]);
+        let mut rhs = vec![0.0; n];
+        crate::engine::pressure::wall_pressure_rhs((&list, &sums, &ghosts), density, &[], &mut rhs);
+        let residual = ap
+            .iter()
+            .zip(&rhs)
+            .fold(0.0_f64, |m, (x, b)| m.max((x - b).abs()));
+        assert!(residual < 1e-9 * force.abs() / dr, "residual {residual}");
+    }
+}
