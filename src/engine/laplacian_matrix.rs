@@ -230,20 +230,29 @@ fn assemble_row(
     kept
 }
 
+/// A test lattice between two plane walls, periodic along them, with its mirrors,
+/// neighbour list and kernel sums.
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::engine::boundary::{Plane, Shape, TensorMirror, Wall};
+pub(crate) mod fixture {
+    use crate::engine::boundary::{Ghosts, Plane, Shape, TensorMirror, Wall};
     use crate::engine::kernel::QuinticSpline;
     use crate::engine::math::Vec2;
-    use crate::engine::neighbours::{Domain, NeighbourSearch};
-    use sprs::CsMat;
+    use crate::engine::neighbours::{Domain, NeighbourList, NeighbourSearch};
+    use crate::engine::operators::KernelSums;
 
-    /// The assembled matrix applied to a field equals the operator form of (21) with the
-    /// ghosts' values set by the mirror rule: the folding of mirrors is exact.
-    #[test]
-    fn matrix_matches_the_operator_with_mirrors() {
-        let n_side = 12;
+    pub struct WalledLattice {
+        /// Fluid positions, then the mirrors'.
+        pub points: Vec<Vec2>,
+        /// Fluid particles.
+        pub n: usize,
+        pub spacing: f64,
+        pub ghosts: Ghosts,
+        pub list: NeighbourList,
+        pub sums: KernelSums,
+    }
+
+    /// `n_side`² particles on the unit square, walls at y = 0 and 1.
+    pub fn walled_lattice(n_side: usize) -> WalledLattice {
         let dr = 1.0 / n_side as f64;
         let kernel = QuinticSpline::for_spacing(dr);
         let domain = Domain {
@@ -252,23 +261,16 @@ mod tests {
             periodic: [true, false],
         };
         let mut points: Vec<Vec2> = (0..n_side * n_side)
-            .map(|k| {
-                Vec2::new(
-                    ((k / n_side) as f64 + 0.5) * dr,
-                    ((k % n_side) as f64 + 0.5) * dr,
-                )
-            })
+            .map(|k| Vec2::new((k / n_side) as f64 + 0.5, (k % n_side) as f64 + 0.5) * dr)
             .collect();
         let n = points.len();
         let plane = |position, fluid_side| {
-            Wall::no_slip(
-                Shape::Plane(Plane {
-                    axis: 1,
-                    position,
-                    fluid_side,
-                }),
-                TensorMirror::Even,
-            )
+            let shape = Shape::Plane(Plane {
+                axis: 1,
+                position,
+                fluid_side,
+            });
+            Wall::no_slip(shape, TensorMirror::Even)
         };
         let mut ghosts = Ghosts::new(vec![plane(0.0, 1.0), plane(1.0, -1.0)]);
         ghosts.build(kernel.support(), &mut points);
@@ -276,6 +278,34 @@ mod tests {
         NeighbourSearch::new().build(&domain, &points, n, kernel.support(), &mut list);
         let mut sums = KernelSums::default();
         sums.update(&list, &kernel, dr * dr);
+        WalledLattice {
+            points,
+            n,
+            spacing: dr,
+            ghosts,
+            list,
+            sums,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::engine::math::Vec2;
+    use sprs::CsMat;
+
+    /// The assembled matrix applied to a field equals the operator form of (21) with the
+    /// ghosts' values set by the mirror rule: the folding of mirrors is exact.
+    #[test]
+    fn matrix_matches_the_operator_with_mirrors() {
+        let fixture::WalledLattice {
+            n,
+            ghosts,
+            list,
+            sums,
+            ..
+        } = fixture::walled_lattice(12);
         let field: Vec<f64> = (0..n).map(|k| (k as f64 * 0.37).sin()).collect();
         // A variable viscosity factor, even across the walls (as ShearDependentViscosity
         // extends it); empty: uniform.

@@ -141,37 +141,15 @@ mod tests {
     #[test]
     fn the_ppe_holds_a_hydrostatic_pressure_between_walls() {
         use crate::engine::boundary::Field;
-        use crate::engine::kernel::QuinticSpline;
-        use crate::engine::laplacian_matrix::LaplacianMatrix;
-        use crate::engine::neighbours::{Domain, NeighbourList, NeighbourSearch};
-        use crate::engine::operators::KernelSums;
-        let n_side = 12;
-        let dr = 1.0 / n_side as f64;
-        let kernel = QuinticSpline::for_spacing(dr);
-        let domain = Domain {
-            min: Vec2::zeros(),
-            max: Vec2::new(1.0, 1.0),
-            periodic: [true, false],
-        };
-        let mut points: Vec<Vec2> = (0..n_side * n_side)
-            .map(|k| Vec2::new((k / n_side) as f64 + 0.5, (k % n_side) as f64 + 0.5) * dr)
-            .collect();
-        let n = points.len();
-        let plane = |position, fluid_side| {
-            let axis = 1;
-            let shape = Shape::Plane(Plane {
-                axis,
-                position,
-                fluid_side,
-            });
-            Wall::no_slip(shape, TensorMirror::Even)
-        };
-        let mut ghosts = Ghosts::new(vec![plane(0.0, 1.0), plane(1.0, -1.0)]);
-        ghosts.build(kernel.support(), &mut points);
-        let mut list = NeighbourList::default();
-        NeighbourSearch::new().build(&domain, &points, n, kernel.support(), &mut list);
-        let mut sums = KernelSums::default();
-        sums.update(&list, &kernel, dr * dr);
+        use crate::engine::laplacian_matrix::{fixture, LaplacianMatrix};
+        let fixture::WalledLattice {
+            points,
+            n,
+            spacing: dr,
+            mut ghosts,
+            list,
+            sums,
+        } = fixture::walled_lattice(12);
         let (density, force) = (1.0, -7.0);
         let mut matrix = LaplacianMatrix::default();
         matrix.assemble(
