@@ -3,24 +3,10 @@
 //! can afford (R/δr = 10); the convergence with resolution is in the README.
 
 mod common;
-use common::run_quiet;
+use common::{run_quiet, shipped, summary_section};
 use rheosph::app::run::Outcome;
 use rheosph::setup::case;
 use std::path::Path;
-
-fn drop_case(file: &str, overrides: &[&str]) -> rheosph::setup::case::Case {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("cases")
-        .join(file);
-    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-    case::load(&path, &o).expect("valid case")
-}
-
-fn drop_summary(dir: &Path) -> serde_json::Value {
-    let text = std::fs::read_to_string(dir.join("summary.json")).unwrap();
-    let summary: serde_json::Value = serde_json::from_str(&text).unwrap();
-    summary["drop"].clone()
-}
 
 /// Static drop, R = 1, σ = 1, R/δr = 10, to t = 2 (two capillary times, Oh = 0.1): the
 /// interior pressure is Laplace's σ/R. Measured +1.17 %, the curvature fit's own error at this
@@ -30,13 +16,13 @@ fn drop_summary(dir: &Path) -> serde_json::Value {
 /// the ring-built drop).
 #[test]
 fn static_drop_holds_the_laplace_pressure() {
-    let case = drop_case(
+    let case = shipped(
         "static-drop.toml",
         &["scene.resolution=20", "run.end_time=2"],
     );
     let (s, dir) = run_quiet(&case, false);
     assert_eq!(s.outcome, Outcome::Finished, "{:?}", s.reason);
-    let d = drop_summary(dir.path());
+    let d = summary_section(dir.path(), "drop");
     let p = d["interior_pressure"].as_f64().unwrap();
     assert!((p - 1.0).abs() < 0.03, "interior pressure {p}, Laplace 1");
     let speed = d["late_max_speed"].as_f64().unwrap();
@@ -49,13 +35,13 @@ fn static_drop_holds_the_laplace_pressure() {
 /// curvature from the smoothed normals' field it broke down (README).
 #[test]
 fn oscillating_drop_has_the_capillary_period() {
-    let case = drop_case(
+    let case = shipped(
         "oscillating-drop.toml",
         &["scene.resolution=20", "run.end_time=6"],
     );
     let (s, dir) = run_quiet(&case, false);
     assert_eq!(s.outcome, Outcome::Finished, "{:?}", s.reason);
-    let d = drop_summary(dir.path());
+    let d = summary_section(dir.path(), "drop");
     let period = d["oscillation_period"].as_f64().expect("an oscillation");
     let exact = 2.0 * std::f64::consts::PI / 6f64.sqrt();
     assert!(
@@ -73,13 +59,13 @@ fn oscillating_drop_has_the_capillary_period() {
 /// so the test tells the two theories apart. 2 % on the period.
 #[test]
 fn viscous_drop_decays_at_the_linear_theory_rate() {
-    let case = drop_case(
+    let case = shipped(
         "oscillating-drop.toml",
         &["scene.resolution=40", "fluid.viscosity=0.05"],
     );
     let (s, dir) = run_quiet(&case, false);
     assert_eq!(s.outcome, Outcome::Finished, "{:?}", s.reason);
-    let d = drop_summary(dir.path());
+    let d = summary_section(dir.path(), "drop");
     let (gamma, theory) = (d["decay_rate"].as_f64(), d["theory_decay_rate"].as_f64());
     let (gamma, theory) = (gamma.expect("a decay"), theory.expect("a theory"));
     assert!((theory - 0.1773).abs() < 1e-3, "theory {theory}");
@@ -108,10 +94,10 @@ fn viscous_drop_decays_at_the_linear_theory_rate() {
 /// the Newtonian one, 0.19) or if the polymer stress did not damp at all (η_s alone: 0.038).
 #[test]
 fn oldroyd_b_drop_follows_the_complex_viscosity() {
-    let case = drop_case("oscillating-drop-oldroyd-b.toml", &[]);
+    let case = shipped("oscillating-drop-oldroyd-b.toml", &[]);
     let (s, dir) = run_quiet(&case, false);
     assert_eq!(s.outcome, Outcome::Finished, "{:?}", s.reason);
-    let d = drop_summary(dir.path());
+    let d = summary_section(dir.path(), "drop");
     let period = d["oscillation_period"].as_f64().unwrap();
     let exact = d["theory_period"].as_f64().unwrap();
     assert!(
@@ -138,7 +124,7 @@ fn oldroyd_b_drop_follows_the_complex_viscosity() {
 /// ≈ 0) or with K of a wrong normalisation (a factor 2π or ρ) would not.
 #[test]
 fn cohesion_drop_holds_the_cohesive_and_laplace_pressure() {
-    let case = drop_case(
+    let case = shipped(
         "static-drop.toml",
         &[
             "scene.resolution=30",
@@ -161,7 +147,7 @@ fn cohesion_drop_holds_the_cohesive_and_laplace_pressure() {
     let k = rheosph::engine::free_surface::Cohesion::new((1.0, 1.0), 0.05, support, (none, None))
         .flat_pressure;
     assert!((k - 15.92).abs() < 0.01, "K {k}");
-    let d = drop_summary(dir.path());
+    let d = summary_section(dir.path(), "drop");
     let p = d["interior_pressure"].as_f64().unwrap();
     let laplace = k + 1.0 / 0.75;
     assert!(

@@ -3,18 +3,10 @@
 //! the README.
 
 mod common;
-use common::run_quiet;
+use common::{run_quiet, shipped, summary_section};
 use rheosph::app::run::Outcome;
 use rheosph::setup::case;
 use std::path::Path;
-
-fn channel(file: &str, overrides: &[&str]) -> rheosph::setup::case::Case {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("cases")
-        .join(file);
-    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-    case::load(&path, &o).expect("valid case")
-}
 
 /// Power-law channels (K = 1, ρg = 8, cut at η0 = 10), H/δr = 15, implicit viscosity, t = 5:
 /// the final velocity L2 error against the exact steady profile, over its centre-line
@@ -24,7 +16,7 @@ fn channel(file: &str, overrides: &[&str]) -> rheosph::setup::case::Case {
 #[test]
 fn power_law_channels_reach_the_exact_profile() {
     for n in ["0.5", "1.5"] {
-        let case = channel(
+        let case = shipped(
             "power-law-channel.toml",
             &["scene.resolution=15", &format!("fluid.power_index={n}")],
         );
@@ -41,7 +33,7 @@ fn power_law_channels_reach_the_exact_profile() {
 /// 1.5 %; a Newtonian fluid of viscosity K would be 28 % off (no plug).
 #[test]
 fn bingham_channel_reaches_the_exact_profile() {
-    let case = channel("bingham-channel.toml", &["scene.resolution=15"]);
+    let case = shipped("bingham-channel.toml", &["scene.resolution=15"]);
     let (s, _dir) = run_quiet(&case, false);
     assert_eq!(s.outcome, Outcome::Finished, "{:?}", s.reason);
     let l2 = s.errors.l2_final.unwrap();
@@ -69,14 +61,14 @@ fn law_parameters_are_validated() {
 /// there) and 2.2.
 #[test]
 fn power_law_drop_spreads_with_its_own_viscosity_in_the_surface_pressure() {
-    let case = channel(
+    let case = shipped(
         "power-law-drop-impact.toml",
         &["scene.resolution=20", "run.end_time=0.06"],
     );
     let (s, dir) = run_quiet(&case, false);
     assert_eq!(s.outcome, Outcome::Finished, "{:?}", s.reason);
-    let text = std::fs::read_to_string(dir.path().join("summary.json")).unwrap();
-    let summary: serde_json::Value = serde_json::from_str(&text).unwrap();
-    let width = summary["drop"]["max_width_star"].as_f64().unwrap();
+    let width = summary_section(dir.path(), "drop")["max_width_star"]
+        .as_f64()
+        .unwrap();
     assert!((1.3..2.2).contains(&width), "W* {width}");
 }

@@ -3,24 +3,8 @@
 //! meniscus height, at resolutions CI can afford; the resolution studies are in the README.
 
 mod common;
-use common::run_quiet;
+use common::{run_quiet, shipped, summary_section};
 use rheosph::app::run::Outcome;
-use rheosph::setup::case;
-use std::path::Path;
-
-fn shipped(file: &str, overrides: &[&str]) -> rheosph::setup::case::Case {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("cases")
-        .join(file);
-    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-    case::load(&path, &o).expect("valid case")
-}
-
-fn probe(dir: &Path, name: &str) -> serde_json::Value {
-    let text = std::fs::read_to_string(dir.join("summary.json")).unwrap();
-    let summary: serde_json::Value = serde_json::from_str(&text).unwrap();
-    summary[name].clone()
-}
 
 /// Half a disc (R/δr = 20) resting on the plate, no gravity, spreads or beads to rest at
 /// θ = 40° and 120° (it starts at 90°). Measured 40.6° and 122.3° (60° gives 61.0°). At
@@ -35,7 +19,7 @@ fn a_sessile_drop_rests_at_its_contact_angle() {
         let case = shipped("sessile-drop.toml", &["run.end_time=20", &angle]);
         let (s, dir) = run_quiet(&case, false);
         assert_eq!(s.outcome, Outcome::Finished, "{:?}", s.reason);
-        let d = probe(dir.path(), "drop");
+        let d = summary_section(dir.path(), "drop");
         let measured = d["contact_angle"].as_f64().unwrap();
         let speed = d["late_max_speed"].as_f64().unwrap();
         eprintln!("θ = {theta}: measured {measured:.2}°, late speed {speed:.2e}");
@@ -67,7 +51,7 @@ fn a_pool_rises_at_the_wall_by_the_meniscus_height() {
     );
     let (s, dir) = run_quiet(&case, false);
     assert_eq!(s.outcome, Outcome::Finished, "{:?}", s.reason);
-    let m = probe(dir.path(), "meniscus");
+    let m = summary_section(dir.path(), "meniscus");
     let (rise, exact) = (
         m["wall_rise"].as_f64().unwrap(),
         m["wall_rise_exact"].as_f64().unwrap(),

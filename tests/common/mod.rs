@@ -3,7 +3,7 @@
 
 use rheosph::app::run::{self, RunOptions, Summary};
 use rheosph::setup::case::{self, Case};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 pub const POISEUILLE: &str = include_str!("../../cases/poiseuille.toml");
 
@@ -28,4 +28,20 @@ pub fn run_quiet(case: &Case, charts: bool) -> (Summary, tempfile::TempDir) {
     )
     .expect("run completes");
     (summary, dir)
+}
+
+/// A shipped case file (`cases/<file>`) with overrides.
+pub fn shipped(file: &str, overrides: &[&str]) -> Case {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("cases")
+        .join(file);
+    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    case::load(&path, &o).expect("valid case")
+}
+
+/// Section `name` of a run directory's `summary.json` (Null if absent).
+pub fn summary_section(dir: &Path, name: &str) -> serde_json::Value {
+    let text = std::fs::read_to_string(dir.join("summary.json")).unwrap();
+    let summary: serde_json::Value = serde_json::from_str(&text).unwrap();
+    summary[name].clone()
 }
