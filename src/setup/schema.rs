@@ -6,6 +6,7 @@
 use crate::engine::boundary::{TensorMirror, WallModel, WallPressure};
 use crate::engine::frame::Frame;
 use crate::engine::free_surface::{SurfacePressure, SurfaceTensionForm};
+use crate::engine::operators::GradientOrder;
 use crate::engine::rheology::{ConformationScheme, Remap};
 use crate::engine::scheme::PpeSolver;
 use crate::engine::viscosity::Viscosity;
@@ -254,6 +255,10 @@ pub struct SchemeSpec {
     /// `neumann` (∂p/∂n = 0, the paper's) or `momentum` (∂p/∂n = n·(∇·Φ + ρg), see
     /// `engine::boundary::wall_pressure`): the pressure the wall ghosts carry.
     pub wall_pressure: WallPressure,
+    /// `first` (Bonet–Lok, eq. (22)) or `second` (exact for quadratic fields, after Nasar et
+    /// al. 2021): the corrected gradient of every first-derivative operator (the Laplacian
+    /// keeps the first-order one).
+    pub gradient_order: GradientOrder,
     /// `auto`, `standard` or `incremental` pressure projection.
     pub projection: ProjectionChoice,
     /// Free surfaces: `normal-stress` (35a) or `zero` Dirichlet pressure.
@@ -306,6 +311,7 @@ impl Default for SchemeSpec {
             wall_conformation: TensorMirror::Even,
             wall_model: WallModel::Mirror,
             wall_pressure: WallPressure::Neumann,
+            gradient_order: GradientOrder::First,
             projection: ProjectionChoice::Auto,
             free_surface_pressure: SurfacePressure::NormalStress,
             surface_repulsion: true,

@@ -389,6 +389,7 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
         wall_conformation: s.wall_conformation,
         wall_model: s.wall_model,
         wall_pressure: s.wall_pressure,
+        gradient_order: s.gradient_order,
         free_surface_pressure: s.free_surface_pressure,
         surface_repulsion: s.surface_repulsion,
         surface_tension: s.surface_tension,

@@ -164,6 +164,8 @@ impl Simulation {
         );
         let mut ghosts = Ghosts::new(walls);
         ghosts.set_model(scheme.wall_model, setup.spacing);
+        let mut hood = Neighbourhood::new(ghosts);
+        hood.sums.order = scheme.gradient_order;
         // Free surfaces take the positive divergence form of (20) with L = I.
         let form = if setup.free_surface {
             DivergenceForm::Positive
@@ -172,7 +174,7 @@ impl Simulation {
         };
         let stages = Stages {
             reordering: Reordering::new(scheme.reorder, scheme.frame.moves_particles()),
-            hood: Neighbourhood::new(ghosts),
+            hood,
             kinematics: Kinematics::new(scheme.constitutive_gradient),
             shifting: Shifting::new(ShiftRule::new(
                 scheme.frame,
