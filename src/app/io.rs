@@ -72,9 +72,11 @@ pub struct SeriesRow {
     /// Where tr A is largest.
     pub max_trace_a_x: f64,
     pub max_trace_a_y: f64,
+    /// Particle-scale noise of ln tr A ([`crate::analysis::diagnostics::conformation_noise`]).
+    pub conformation_noise: f64,
 }
 
-pub const SERIES_HEADER: &str = "t,dt,step,u_centre,u_centre_exact,l2_error,ppe_iterations,ppe_residual,ppe_fallbacks,kinetic_energy,max_speed,max_trace_a,min_det_a,u_mean,drag_k,k_pressure,k_solvent,k_polymer,body_force,elastic_courant,min_det_a_x,min_det_a_y,max_trace_a_x,max_trace_a_y";
+pub const SERIES_HEADER: &str = "t,dt,step,u_centre,u_centre_exact,l2_error,ppe_iterations,ppe_residual,ppe_fallbacks,kinetic_energy,max_speed,max_trace_a,min_det_a,u_mean,drag_k,k_pressure,k_solvent,k_polymer,body_force,elastic_courant,min_det_a_x,min_det_a_y,max_trace_a_x,max_trace_a_y,conformation_noise";
 
 /// The series as CSV text.
 pub fn series_csv(rows: &[SeriesRow]) -> String {
@@ -83,7 +85,7 @@ pub fn series_csv(rows: &[SeriesRow]) -> String {
     s.push('\n');
     for r in rows {
         s.push_str(&format!(
-            "{:.8e},{:.6e},{},{:.8e},{:.8e},{:.6e},{:.2},{:.3e},{},{:.8e},{:.6e},{:.8e},{:.8e},{:.8e},{:.6e},{:.6e},{:.6e},{:.6e},{:.8e},{:.4e},{:.6e},{:.6e},{:.6e},{:.6e}\n",
+            "{:.8e},{:.6e},{},{:.8e},{:.8e},{:.6e},{:.2},{:.3e},{},{:.8e},{:.6e},{:.8e},{:.8e},{:.8e},{:.6e},{:.6e},{:.6e},{:.6e},{:.8e},{:.4e},{:.6e},{:.6e},{:.6e},{:.6e},{:.4e}\n",
             r.t,
             r.dt,
             r.step,
@@ -107,7 +109,8 @@ pub fn series_csv(rows: &[SeriesRow]) -> String {
             r.min_det_a_x,
             r.min_det_a_y,
             r.max_trace_a_x,
-            r.max_trace_a_y
+            r.max_trace_a_y,
+            r.conformation_noise
         ));
     }
     s
@@ -126,7 +129,7 @@ pub fn read_series(path: &Path) -> Result<Vec<SeriesRow>> {
     lines
         .map(|line| {
             let f: Vec<&str> = line.split(',').collect();
-            anyhow::ensure!(f.len() == 24, "bad series line: {line}");
+            anyhow::ensure!(f.len() == 25, "bad series line: {line}");
             let x = |k: usize| -> Result<f64> { Ok(f[k].parse::<f64>()?) };
             Ok(SeriesRow {
                 t: x(0)?,
@@ -153,6 +156,7 @@ pub fn read_series(path: &Path) -> Result<Vec<SeriesRow>> {
                 min_det_a_y: x(21)?,
                 max_trace_a_x: x(22)?,
                 max_trace_a_y: x(23)?,
+                conformation_noise: x(24)?,
             })
         })
         .collect()

@@ -58,5 +58,11 @@ pub fn row(
         min_det_a_y: where_min_det.y,
         max_trace_a_x: where_max_trace.x,
         max_trace_a_y: where_max_trace.y,
+        conformation_noise: diagnostics::conformation_noise(
+            &sim.domain,
+            &s.position,
+            &s.conformation,
+            sim.particle_volume().sqrt(),
+        ),
     }
 }
