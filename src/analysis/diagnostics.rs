@@ -127,7 +127,8 @@ fn extreme_location(
 /// (i itself left out). A smooth field contributes O(h²|∇² ln tr A|) (the symmetric mean
 /// cancels its linear part); an odd–even pattern contributes its full amplitude. Under the
 /// central remap it grows without bound at Wi ≥ 4 in the cylinder array and saturates with
-/// the upwind one (README, *High Weissenberg number*). Empty or single-particle sets give 0.
+/// the upwind one (README, *High Weissenberg number*). NaN without a conformation (Newtonian
+/// fluids) and 0 when no particle has a neighbour.
 pub fn conformation_noise(
     domain: &crate::engine::neighbours::Domain,
     position: &[Vec2],
@@ -136,6 +137,9 @@ pub fn conformation_noise(
 ) -> f64 {
     use crate::engine::kernel::QuinticSpline;
     use crate::engine::neighbours::{NeighbourList, NeighbourSearch};
+    if conformation.len() != position.len() || position.is_empty() {
+        return f64::NAN; // a Newtonian or generalised Newtonian fluid carries no conformation
+    }
     let kernel = QuinticSpline::for_spacing(spacing);
     let n = position.len();
     let mut list = NeighbourList::default();
