@@ -28,7 +28,7 @@ pub enum DivergenceForm {
 }
 
 /// Consistency of the corrected gradient ∇Ŵ_ij that every first-derivative operator of
-/// eq. (20) reads (gradient, both divergence forms' negative variant, advection).
+/// eq. (20) reads (the gradients, the negative divergence form, the advective derivative).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum GradientOrder {
@@ -62,8 +62,8 @@ pub struct KernelSums {
     pub laplacian: Vec<f64>,
 }
 
-/// Above this 1-norm condition number of the 5 × 5 moment matrix (a truncated or very
-/// irregular support) a particle keeps the first-order gradient.
+/// Above this bound on the condition number of the 5 × 5 moment matrix (the product of
+/// the entry-wise 1-norms of M and M⁻¹; a truncated or very irregular support) a particle keeps the first-order gradient.
 const MAX_MOMENT_CONDITION: f64 = 1e8;
 
 /// Below this |det M| (M ≈ I in full support) the correction is not attempted: such a particle
