@@ -62,8 +62,9 @@ pub struct KernelSums {
     pub laplacian: Vec<f64>,
 }
 
-/// Above this bound on the condition number of the 5 × 5 moment matrix (the product of
-/// the entry-wise 1-norms of M and M⁻¹; a truncated or very irregular support) a particle keeps the first-order gradient.
+/// Above this bound on the condition number of the 5 × 5 moment matrix (the product of the
+/// entry-wise 1-norms of M and M⁻¹; a truncated or very irregular support) a particle keeps
+/// the first-order gradient.
 const MAX_MOMENT_CONDITION: f64 = 1e8;
 
 /// Below this |det M| (M ≈ I in full support) the correction is not attempted: such a particle
