@@ -57,35 +57,36 @@ fn developed_channel_at_wi_64_is_stable_at_the_default_step() {
     assert!(stretch > 1e4, "largest tr A {stretch}");
 }
 
-/// The smallest det A over every output of a coarse cylinder-array run at Wi = 1 (R/δr = 9,
-/// to t = 2), with the scheme keys `scheme` (`key=value`).
-fn min_det_a(scheme: &[&str]) -> f64 {
+/// The series of the shipped cylinder array at R/δr = 9 with the extra `--set` keys `sets`.
+fn coarse_array_series(sets: &[String]) -> Vec<rheosph::app::io::SeriesRow> {
     let tmp = tempfile::tempdir().unwrap();
     let mut command = Command::new(env!("CARGO_BIN_EXE_rheosph"));
-    command
-        .args([
-            "-q",
-            "run",
-            "cases/cylinder-array.toml",
-            "--no-snapshots",
-            "--no-charts",
-        ])
-        .args([
-            "--set",
-            "scene.resolution=36",
-            "--set",
-            "fluid.relaxation_time=1",
-        ])
-        .args(["--set", "run.end_time=2"]);
-    for key in scheme {
-        command.arg("--set").arg(format!("scheme.{key}"));
+    command.args(["-q", "run", "cases/cylinder-array.toml", "--no-snapshots"]);
+    command.args(["--no-charts", "--set", "scene.resolution=36"]);
+    for set in sets {
+        command.arg("--set").arg(set);
     }
     let status = command.arg("--out").arg(tmp.path()).status().unwrap();
-    assert!(status.success(), "{scheme:?}: {status}");
-    let rows = read_series(&tmp.path().join("series.csv")).unwrap();
+    assert!(status.success(), "{sets:?}: {status}");
+    read_series(&tmp.path().join("series.csv")).unwrap()
+}
+
+/// The smallest det A over a series' outputs.
+fn series_min_det_a(rows: &[rheosph::app::io::SeriesRow]) -> f64 {
     rows.iter()
         .map(|r| r.min_det_a)
         .fold(f64::INFINITY, f64::min)
+}
+
+/// The smallest det A over every output of a coarse cylinder-array run at Wi = 1 (R/δr = 9,
+/// to t = 2), with the scheme keys `scheme` (`key=value`).
+fn min_det_a(scheme: &[&str]) -> f64 {
+    let mut sets = vec![
+        "fluid.relaxation_time=1".to_string(),
+        "run.end_time=2".into(),
+    ];
+    sets.extend(scheme.iter().map(|key| format!("scheme.{key}")));
+    series_min_det_a(&coarse_array_series(&sets))
 }
 
 /// det A ≥ 1 holds exactly for Oldroyd-B (d ln det A/dt = 2∇·u + (tr A⁻¹ − 2)/λ ≥ 0 at
@@ -147,34 +148,14 @@ fn the_limited_remap_keeps_det_a_at_least_one_in_the_eulerian_frame() {
 #[test]
 fn the_upwind_remap_keeps_the_stress_noise_bounded_at_wi_8() {
     let noise = |remap: &str| {
-        let tmp = tempfile::tempdir().unwrap();
-        let status = Command::new(env!("CARGO_BIN_EXE_rheosph"))
-            .args(["-q", "run", "cases/cylinder-array.toml", "--no-snapshots"])
-            .args(["--no-charts", "--set", "scene.resolution=36"])
-            .args([
-                "--set",
-                "fluid.relaxation_time=8",
-                "--set",
-                "scene.mean_flow=1",
-            ])
-            .args([
-                "--set",
-                "run.end_time=5",
-                "--set",
-                "run.output_interval=0.5",
-            ])
-            .arg("--set")
-            .arg(format!("scheme.conformation_remap={remap}"))
-            .arg("--out")
-            .arg(tmp.path())
-            .status()
-            .unwrap();
-        assert!(status.success(), "{remap}: {status}");
-        let rows = read_series(&tmp.path().join("series.csv")).unwrap();
-        let min_det = rows
-            .iter()
-            .map(|r| r.min_det_a)
-            .fold(f64::INFINITY, f64::min);
+        let rows = coarse_array_series(&[
+            "fluid.relaxation_time=8".into(),
+            "scene.mean_flow=1".into(),
+            "run.end_time=5".into(),
+            "run.output_interval=0.5".into(),
+            format!("scheme.conformation_remap={remap}"),
+        ]);
+        let min_det = series_min_det_a(&rows);
         assert!(min_det >= 1.0 - 1e-6, "{remap}: min det A {min_det}");
         rows.last().unwrap().conformation_noise
     };

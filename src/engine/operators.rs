@@ -413,11 +413,22 @@ mod tests {
     }
 
     fn setup(n: usize, jitter: f64) -> (Vec<Vec2>, NeighbourList, KernelSums) {
+        setup_with_order(n, jitter, GradientOrder::First)
+    }
+
+    fn setup_with_order(
+        n: usize,
+        jitter: f64,
+        order: GradientOrder,
+    ) -> (Vec<Vec2>, NeighbourList, KernelSums) {
         let (domain, pts, dr) = disordered_box(n, jitter);
         let kernel = QuinticSpline::for_spacing(dr);
         let mut list = NeighbourList::default();
         NeighbourSearch::new().build(&domain, &pts, pts.len(), kernel.support(), &mut list);
-        let mut sums = KernelSums::default();
+        let mut sums = KernelSums {
+            order,
+            ..Default::default()
+        };
         sums.update(&list, &kernel, dr * dr);
         (pts, list, sums)
     }
@@ -460,13 +471,7 @@ mod tests {
     /// across below 0.8 of the first-order error (0.63 measured).
     #[test]
     fn second_order_gradient_is_exact_for_quadratics() {
-        let (pts, list, _) = setup(30, 0.3);
-        let kernel = QuinticSpline::for_spacing(1.0 / 30.0);
-        let mut sums = KernelSums {
-            order: GradientOrder::Second,
-            ..Default::default()
-        };
-        sums.update(&list, &kernel, 1.0 / 900.0);
+        let (pts, list, sums) = setup_with_order(30, 0.3, GradientOrder::Second);
         let n = pts.len();
         let mut grad = vec![Vec2::zeros(); n];
         for i in (0..n).step_by(37) {
@@ -484,15 +489,7 @@ mod tests {
             );
         }
         let error = |n: usize, order: GradientOrder| {
-            let (domain, pts, dr) = disordered_box(n, 0.45);
-            let kernel = QuinticSpline::for_spacing(dr);
-            let mut list = NeighbourList::default();
-            NeighbourSearch::new().build(&domain, &pts, pts.len(), kernel.support(), &mut list);
-            let mut sums = KernelSums {
-                order,
-                ..Default::default()
-            };
-            sums.update(&list, &kernel, dr * dr);
+            let (pts, list, sums) = setup_with_order(n, 0.45, order);
             let tau = 2.0 * std::f64::consts::PI;
             let phi: Vec<f64> = pts
                 .iter()
