@@ -104,26 +104,15 @@ pub fn interpolate(sim: &Simulation, target_spacing: f64) -> GridFields {
 pub fn interpolate_on(sim: &Simulation, spec: GridSpec) -> GridFields {
     let fields = particle_fields(sim);
     let values: Vec<&[f64]> = fields.iter().map(|(_, v)| v.as_slice()).collect();
-    let cells = Cells::new(&sim.domain, &sim.state.position, sim.kernel.support());
-    let solid = |x: &Vec2| {
-        sim.walls()
-            .iter()
-            .any(|w| w.distance_in(x, &sim.domain) < 0.0)
-    };
-    let weights = Weights {
-        kernel: &sim.kernel,
-        domain: &sim.domain,
-        positions: &sim.state.position,
-        volume: sim.particle_volume(),
-    };
+    let sampler = Sampler::new(sim);
     let per_node: Vec<Option<Vec<f64>>> = (0..spec.len())
         .into_par_iter()
         .map(|k| {
             let x = spec.node(k);
-            if solid(&x) {
+            if sampler.in_solid(&x) {
                 return None;
             }
-            weights.fit(&cells, x, &values)
+            sampler.fit(x, &values)
         })
         .collect();
     let fluid = per_node.iter().map(|v| v.is_some() as u8).collect();
@@ -142,6 +131,65 @@ pub fn interpolate_on(sim: &Simulation, spec: GridSpec) -> GridFields {
         spec,
         fluid,
         fields,
+    }
+}
+
+/// Interpolation of a simulation's particle values at arbitrary points.
+pub struct Sampler<'a> {
+    sim: &'a Simulation,
+    cells: Cells,
+    weights: Weights<'a>,
+}
+
+impl<'a> Sampler<'a> {
+    pub fn new(sim: &'a Simulation) -> Self {
+        Self {
+            sim,
+            cells: Cells::new(&sim.domain, &sim.state.position, sim.kernel.support()),
+            weights: Weights {
+                kernel: &sim.kernel,
+                domain: &sim.domain,
+                positions: &sim.state.position,
+                volume: sim.particle_volume(),
+            },
+        }
+    }
+
+    /// Whether a solid wall of the simulation contains `x`.
+    pub fn in_solid(&self, x: &Vec2) -> bool {
+        let domain = &self.sim.domain;
+        self.sim
+            .walls()
+            .iter()
+            .any(|w| w.distance_in(x, domain) < 0.0)
+    }
+
+    /// The corrected interpolants of the per-particle `values` at `x` (module docs), or None
+    /// where the Shepard sum says `x` is outside the fluid.
+    pub fn fit(&self, x: Vec2, values: &[&[f64]]) -> Option<Vec<f64>> {
+        self.weights.fit(&self.cells, x, values)
+    }
+
+    /// The Shepard averages Σ_j V_j W_j f_j / Σ_j V_j W_j at `x`: convex combinations, so
+    /// they keep what a convex set keeps (a conformation's positive definiteness and
+    /// det A ≥ 1, by Minkowski's determinant inequality; tr A < L²). None: no particle within
+    /// the support.
+    pub fn shepard(&self, x: Vec2, values: &[&[f64]]) -> Option<Vec<f64>> {
+        let w = &self.weights;
+        let mut sum = 0.0;
+        let mut out = vec![0.0; values.len()];
+        self.cells.for_each_near(w.domain, x, |j| {
+            let r = w.domain.min_image(w.positions[j] - x).norm();
+            if r >= w.kernel.support() {
+                return;
+            }
+            let weight = w.kernel.value(r);
+            sum += weight;
+            for (o, v) in out.iter_mut().zip(values) {
+                *o += weight * v[j];
+            }
+        });
+        (sum > 0.0).then(|| out.iter().map(|o| o / sum).collect())
     }
 }
 

@@ -14,6 +14,7 @@ pub mod probes;
 pub mod run_loop;
 pub mod series;
 pub mod summary;
+pub mod transfer;
 
 pub use errors::{Errors, Peak};
 pub use probes::drop::DropSummary;
@@ -75,7 +76,9 @@ pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
 /// velocities, pressure and conformation carried over, this case's parameters (e.g. a new
 /// λ for a Wi ramp) and a clock from t = 0. The scenes must match particle for particle
 /// (count, spacing, frame, viscoelastic or not); a constant body force is this case's, a
-/// mean-flow controller keeps the force it had reached.
+/// mean-flow controller keeps the force it had reached. When the particle spacing differs
+/// (`from` ran at another `scene.resolution`), the state is interpolated onto this case's
+/// particles instead ([`transfer`]).
 pub fn continue_from(case: &Case, options: &RunOptions, from: &Path) -> Result<Summary> {
     let path = from.join(checkpoint::FINAL_STATE_FILE);
     anyhow::ensure!(
@@ -85,14 +88,33 @@ pub fn continue_from(case: &Case, options: &RunOptions, from: &Path) -> Result<S
         checkpoint::FINAL_STATE_FILE
     );
     let mut sim = crate::engine::step::Simulation::new(case.setup());
-    checkpoint::read(&path, &mut sim)
-        .map_err(|e| anyhow::anyhow!("continuing from {}: {e}", path.display()))?;
+    let source = stored_simulation(from)?;
+    if source.spacing.to_bits() == sim.spacing.to_bits() {
+        checkpoint::read(&path, &mut sim)
+            .map_err(|e| anyhow::anyhow!("continuing from {}: {e}", path.display()))?;
+    } else {
+        transfer::transfer(&source, &mut sim)
+            .with_context(|| format!("interpolating the state of {}", from.display()))?;
+    }
     sim.state.time = 0.0;
     sim.state.steps = 0;
     if !case.scene.holds_mean_flow() {
         sim.state.body_force = case.scene.body_force();
     }
     run_from(case, options, Start::Continued(Box::new(sim)))
+}
+
+/// The finished run in `dir` as it ended: its case (`case.toml`) set up and its final state
+/// restored.
+fn stored_simulation(dir: &Path) -> Result<crate::engine::step::Simulation> {
+    let text = std::fs::read_to_string(dir.join(CASE_FILE))
+        .with_context(|| format!("reading {}", dir.join(CASE_FILE).display()))?;
+    let case = crate::setup::case::parse(&text, CASE_FILE, "stored", &[])?;
+    let mut sim = crate::engine::step::Simulation::new(case.setup());
+    let path = dir.join(checkpoint::FINAL_STATE_FILE);
+    checkpoint::read(&path, &mut sim)
+        .map_err(|e| anyhow::anyhow!("reading {}: {e}", path.display()))?;
+    Ok(sim)
 }
 
 /// Continues the run in `options.out_dir` from its last checkpoint (`checkpoint.bin`, with the

@@ -32,6 +32,11 @@ pub struct CylinderArgs {
     /// Published drag values to draw beside ours: a CSV with columns `wi,k`.
     #[arg(long, value_name = "FILE")]
     pub reference: Option<PathBuf>,
+    /// Grid sequencing: coarser `scene.resolution`s (coarsest first) run first at each Wi,
+    /// each run starting from the previous one's final state interpolated onto its particles;
+    /// `36:60` also sets that stage's `run.end_time`.
+    #[arg(long, value_delimiter = ',', value_parser = cylinder::parse_stage)]
+    pub sequence: Vec<cylinder::Stage>,
 }
 
 #[derive(Args, Debug)]
@@ -209,6 +214,7 @@ pub fn dispatch(command: StudyCommand, quiet: bool) -> Result<()> {
             let rows = cylinder::run(
                 &base,
                 &a.wi,
+                &a.sequence,
                 reference.as_deref(),
                 &out,
                 a.common.figure_format,
@@ -218,8 +224,9 @@ pub fn dispatch(command: StudyCommand, quiet: bool) -> Result<()> {
             if !quiet {
                 for r in &rows {
                     eprintln!(
-                        "Wi = {:>6}: {} at t = {:.3} (steady at {}), <u> = {:.4}, K = {:.3}, peak tau_xx = {:.3}, min det A = {:.4}, {:.1} s",
+                        "Wi = {:>6}, R/dr = {:.1}: {} at t = {:.3} (steady at {}), <u> = {:.4}, K = {:.3}, peak tau_xx = {:.3}, min det A = {:.4} (run {:.4}), {:.1} s",
                         r.wi,
+                        r.radius_over_dr,
                         r.outcome,
                         r.t_reached,
                         r.steady_at.map_or("-".into(), |t| format!("{t:.3}")),
@@ -227,6 +234,7 @@ pub fn dispatch(command: StudyCommand, quiet: bool) -> Result<()> {
                         r.drag_k,
                         r.peak_tau_xx,
                         r.min_det_a,
+                        r.min_det_a_run,
                         r.wall_seconds
                     );
                 }

@@ -43,6 +43,7 @@ pub fn run(
                     format!("scene.resolution={r}"),
                 ],
                 tags: vec![("frame".into(), frame.clone())],
+                from: None,
             });
         }
     }

@@ -25,11 +25,13 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// One run of a study: its label, its overrides on top of the base case, and tags for the
 /// CSV (e.g. `frame = eulerian`).
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 pub struct Variant {
     pub label: String,
     pub overrides: Vec<String>,
     pub tags: Vec<(String, String)>,
+    /// Start from this finished run's final state (`run --from`), e.g. a coarser resolution's.
+    pub from: Option<PathBuf>,
 }
 
 /// A finished run of a study.
@@ -81,11 +83,7 @@ pub fn parse_vary(arg: &str) -> Result<(String, Vec<String>), CaseError> {
 /// One explicit variant from a `--variant` argument: `key=value` pairs separated by `;`
 /// (e.g. `scheme.method=wcsph;scheme.density_diffusion=0.1`), labelled by its pairs.
 pub fn parse_variant(arg: &str) -> Result<Variant, CaseError> {
-    let mut v = Variant {
-        label: String::new(),
-        overrides: Vec::new(),
-        tags: Vec::new(),
-    };
+    let mut v = Variant::default();
     for pair in arg.split(';').map(str::trim).filter(|p| !p.is_empty()) {
         let (key, value) = pair.split_once('=').ok_or_else(|| CaseError {
             file: "--variant".into(),
@@ -107,11 +105,7 @@ pub fn parse_variant(arg: &str) -> Result<Variant, CaseError> {
 /// The variants of a study: each `--variant` (or one empty variant when there are none),
 /// each combined with every combination of the `--vary` dimensions.
 pub fn variants(explicit: &[Variant], varies: &[(String, Vec<String>)]) -> Vec<Variant> {
-    let empty = [Variant {
-        label: String::new(),
-        overrides: Vec::new(),
-        tags: Vec::new(),
-    }];
+    let empty = [Variant::default()];
     let explicit = if explicit.is_empty() {
         &empty[..]
     } else {
@@ -129,6 +123,7 @@ pub fn variants(explicit: &[Variant], varies: &[(String, Vec<String>)]) -> Vec<V
                 label,
                 overrides,
                 tags,
+                from: None,
             });
         }
     }
@@ -137,11 +132,7 @@ pub fn variants(explicit: &[Variant], varies: &[(String, Vec<String>)]) -> Vec<V
 
 /// The Cartesian product of the `--vary` arguments (one empty variant when there are none).
 pub fn product(varies: &[(String, Vec<String>)]) -> Vec<Variant> {
-    let mut out = vec![Variant {
-        label: String::new(),
-        overrides: Vec::new(),
-        tags: Vec::new(),
-    }];
+    let mut out = vec![Variant::default()];
     for (key, values) in varies {
         let short = key.rsplit('.').next().unwrap_or(key);
         out = out
@@ -205,17 +196,16 @@ pub fn run_all(
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()?;
-        let summary = pool.install(|| {
-            run::run(
-                &case,
-                &RunOptions {
-                    out_dir: dir.clone(),
-                    quiet: true,
-                    charts: None,
-                    snapshots: false,
-                    progress: None,
-                },
-            )
+        let options = RunOptions {
+            out_dir: dir.clone(),
+            quiet: true,
+            charts: None,
+            snapshots: false,
+            progress: None,
+        };
+        let summary = pool.install(|| match &variant.from {
+            Some(from) => run::continue_from(&case, &options, from),
+            None => run::run(&case, &options),
         })?;
         let series = crate::app::io::read_series(&dir.join("series.csv"))?;
         let k = done.fetch_add(1, Ordering::SeqCst) + 1;
