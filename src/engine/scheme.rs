@@ -6,7 +6,7 @@ use crate::engine::boundary::{TensorMirror, WallModel, WallPressure};
 use crate::engine::frame::Frame;
 use crate::engine::free_surface::{SurfacePressure, SurfaceTensionForm};
 use crate::engine::kinematics::ConstitutiveGradient;
-use crate::engine::operators::GradientOrder;
+use crate::engine::operators::{GradientOrder, LaplacianOrder};
 use crate::engine::projection::Projection;
 use crate::engine::rheology::{ConformationIntegrator, ConformationScheme};
 use crate::engine::viscosity::Viscosity;
@@ -52,6 +52,8 @@ pub struct Scheme {
     pub wall_pressure: WallPressure,
     /// Consistency order of the corrected gradient of eq. (20)–(22).
     pub gradient_order: GradientOrder,
+    /// Consistency order of the Laplacian of eq. (21).
+    pub laplacian_order: LaplacianOrder,
     /// Free surfaces: the Dirichlet pressure rule.
     pub free_surface_pressure: SurfacePressure,
     /// Free surfaces: the repulsive term of (42)–(44) in the shifting of internal particles.

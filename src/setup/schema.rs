@@ -6,7 +6,7 @@
 use crate::engine::boundary::{TensorMirror, WallModel, WallPressure};
 use crate::engine::frame::Frame;
 use crate::engine::free_surface::{SurfacePressure, SurfaceTensionForm};
-use crate::engine::operators::GradientOrder;
+use crate::engine::operators::{GradientOrder, LaplacianOrder};
 use crate::engine::rheology::{ConformationScheme, Remap};
 use crate::engine::scheme::PpeSolver;
 use crate::engine::viscosity::Viscosity;
@@ -259,6 +259,9 @@ pub struct SchemeSpec {
     /// al. 2021): the corrected gradient of every first-derivative operator (the Laplacian
     /// keeps the first-order one).
     pub gradient_order: GradientOrder,
+    /// `first` (Morris, eq. (21)) or `second` (exact for quadratic fields, after Nasar et al.
+    /// 2021): the Laplacian of the PPE and the viscous term.
+    pub laplacian_order: LaplacianOrder,
     /// `auto`, `standard` or `incremental` pressure projection.
     pub projection: ProjectionChoice,
     /// Free surfaces: `normal-stress` (35a) or `zero` Dirichlet pressure.
@@ -312,6 +315,7 @@ impl Default for SchemeSpec {
             wall_model: WallModel::Mirror,
             wall_pressure: WallPressure::Neumann,
             gradient_order: GradientOrder::First,
+            laplacian_order: LaplacianOrder::First,
             projection: ProjectionChoice::Auto,
             free_surface_pressure: SurfacePressure::NormalStress,
             surface_repulsion: true,

@@ -390,6 +390,7 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
         wall_model: s.wall_model,
         wall_pressure: s.wall_pressure,
         gradient_order: s.gradient_order,
+        laplacian_order: s.laplacian_order,
         free_surface_pressure: s.free_surface_pressure,
         surface_repulsion: s.surface_repulsion,
         surface_tension: s.surface_tension,

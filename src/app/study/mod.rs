@@ -19,7 +19,6 @@ use crate::app::io::SeriesRow;
 use crate::app::run::{self, RunOptions, Summary};
 use crate::setup::case::{self, Case, CaseError};
 use anyhow::{Context, Result};
-use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -236,11 +235,42 @@ pub fn run_all(
     };
     let work: Vec<(Variant, Case)> = variants.into_iter().zip(cases).collect();
     if jobs == 1 {
-        work.into_iter().map(run_one).collect()
-    } else {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(jobs).build()?;
-        pool.install(|| work.into_par_iter().map(run_one).collect())
+        return work.into_iter().map(run_one).collect();
     }
+    // `jobs` plain threads taking the runs in order, each run on its own pool. (An outer
+    // rayon pool would not bound the concurrency: a worker waiting for a run's pool steals
+    // the next run, and all of them ran at once.)
+    let slots: Vec<std::sync::Mutex<Option<(Variant, Case)>>> = work
+        .into_iter()
+        .map(|w| std::sync::Mutex::new(Some(w)))
+        .collect();
+    let results: Vec<std::sync::Mutex<Option<Result<Finished>>>> =
+        slots.iter().map(|_| std::sync::Mutex::new(None)).collect();
+    let next = AtomicUsize::new(0);
+    std::thread::scope(|scope| {
+        for _ in 0..jobs {
+            scope.spawn(|| loop {
+                let k = next.fetch_add(1, Ordering::SeqCst);
+                let Some(slot) = slots.get(k) else { break };
+                let item = slot.lock().map(|mut s| s.take()).ok().flatten();
+                if let Some(item) = item {
+                    let result = run_one(item);
+                    if let Ok(mut r) = results[k].lock() {
+                        *r = Some(result);
+                    }
+                }
+            });
+        }
+    });
+    results
+        .into_iter()
+        .map(|r| {
+            r.into_inner()
+                .ok()
+                .flatten()
+                .unwrap_or_else(|| Err(anyhow::anyhow!("a study run did not report")))
+        })
+        .collect()
 }
 
 /// Least-squares slope of log y against log x (the observed order), over positive pairs.

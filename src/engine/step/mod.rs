@@ -166,6 +166,7 @@ impl Simulation {
         ghosts.set_model(scheme.wall_model, setup.spacing);
         let mut hood = Neighbourhood::new(ghosts);
         hood.sums.order = scheme.gradient_order;
+        hood.sums.laplacian_order = scheme.laplacian_order;
         // Free surfaces take the positive divergence form of (20) with L = I.
         let form = if setup.free_surface {
             DivergenceForm::Positive
