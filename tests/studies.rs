@@ -9,6 +9,7 @@ fn base(sets: &[&str]) -> Base {
     Base {
         path: PathBuf::from("cases/poiseuille.toml"),
         sets: sets.iter().map(|s| s.to_string()).collect(),
+        reuse: false,
     }
 }
 
@@ -105,7 +106,8 @@ fn speed_accuracy_study_marks_a_pareto_front() {
 /// from its final state. The fine run's first row carries the coarse run's bulk velocity
 /// (the quadratic fit reproduces the mean flow to the interpolation error: within 1 %,
 /// measured 0.1 %), det A ≥ 1 holds through both runs (the Shepard average keeps it), and
-/// `cylinder.csv` has a line per stage with its R/δr.
+/// `cylinder.csv` has a line per stage with its R/δr. Run again with `reuse`, the study reads
+/// its runs back instead of running them.
 #[test]
 fn cylinder_study_runs_coarse_to_fine() {
     let out = tempfile::tempdir().unwrap();
@@ -118,6 +120,7 @@ fn cylinder_study_runs_coarse_to_fine() {
         ]
         .map(String::from)
         .to_vec(),
+        reuse: false,
     };
     let stage = study::cylinder::parse_stage("36:0.5").unwrap();
     let rows = study::cylinder::run(
@@ -152,4 +155,26 @@ fn cylinder_study_runs_coarse_to_fine() {
     let csv = std::fs::read_to_string(out.path().join("cylinder.csv")).unwrap();
     assert_eq!(csv.lines().count(), 3);
     assert!(is_png(&out.path().join("centreline_det_a.png")));
+    // `--reuse`: the same study again reads its finished runs back (the same wall times,
+    // which a rerun would not reproduce) and writes the same table.
+    let again = study::cylinder::run(
+        &Base {
+            reuse: true,
+            ..base
+        },
+        &[1.0],
+        &[stage],
+        None,
+        out.path(),
+        FigureFormat::Png,
+        1,
+        true,
+    )
+    .unwrap();
+    for (a, b) in rows.iter().zip(&again) {
+        assert_eq!(a.wall_seconds, b.wall_seconds);
+        assert_eq!(a.drag_k.to_bits(), b.drag_k.to_bits());
+    }
+    let csv_again = std::fs::read_to_string(out.path().join("cylinder.csv")).unwrap();
+    assert_eq!(csv, csv_again);
 }

@@ -33,7 +33,7 @@ pub enum Stage {
 }
 
 /// Accumulated seconds per stage.
-#[derive(Clone, Copy, Debug, Default, Serialize)]
+#[derive(Clone, Copy, Debug, Default, Serialize, serde::Deserialize)]
 pub struct StageSeconds {
     pub advection: f64,
     pub neighbours: f64,

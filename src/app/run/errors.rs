@@ -6,7 +6,7 @@ use crate::engine::step::Simulation;
 use serde::Serialize;
 
 /// The analytic comparison at the first overshoot of the centre-line velocity.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, serde::Deserialize)]
 pub struct Peak {
     pub t: f64,
     pub u_centre_exact: f64,
@@ -16,9 +16,11 @@ pub struct Peak {
 
 /// The errors block of `summary.json`. Every value is `null` when the case has no analytic
 /// reference (see `reference_unavailable`).
-#[derive(Clone, Debug, Default, Serialize)]
+#[derive(Clone, Debug, Default, Serialize, serde::Deserialize)]
 pub struct Errors {
-    /// `waters-king` (transient) or `steady-channel` (compared at the end).
+    /// `waters-king` (transient) or `steady-channel` (compared at the end); not read back
+    /// by [`super::Summary::read`].
+    #[serde(skip_deserializing)]
     pub reference: Option<&'static str>,
     /// Why there is no reference, if there is none.
     pub reference_unavailable: Option<String>,

@@ -11,14 +11,14 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 /// How a run ended.
-#[derive(Clone, Copy, Debug, Serialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Serialize, serde::Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "snake_case")]
 pub enum Outcome {
     Finished,
     BrokeDown,
 }
 
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, serde::Deserialize)]
 pub struct PpeSummary {
     pub mean_iterations: f64,
     pub max_iterations: usize,
@@ -74,7 +74,66 @@ pub struct Summary {
     pub case: crate::setup::case::CaseFile,
 }
 
+/// The probes' names in `summary.json`.
+const PROBE_NAMES: [&str; 6] = ["cavity", "steady", "discs", "drop", "jet", "meniscus"];
+
+/// What [`Summary::read`] takes from `summary.json`; the rest comes from the case.
+#[derive(serde::Deserialize)]
+struct Stored {
+    outcome: Outcome,
+    reason: Option<String>,
+    t_reached: f64,
+    end_time: f64,
+    particles: usize,
+    steps: u64,
+    wall_seconds: f64,
+    particle_steps_per_second: f64,
+    stage_seconds: StageSeconds,
+    threads: usize,
+    errors: Errors,
+    ppe: PpeSummary,
+    max_density_deviation: f64,
+    max_sound_speed: f64,
+    neighbour_pairs_per_particle: f64,
+    neighbour_searches: usize,
+    #[serde(flatten)]
+    rest: BTreeMap<String, serde_json::Value>,
+}
+
 impl Summary {
+    /// The summary a finished run of `case` wrote (`summary.json`'s text), read back: the
+    /// derived numbers and the case are `case`'s, the probes those of known name.
+    pub fn read(json: &str, case: &Case) -> Option<Self> {
+        let s: Stored = serde_json::from_str(json).ok()?;
+        let mut rest = s.rest;
+        let probes = PROBE_NAMES
+            .iter()
+            .filter_map(|&name| Some((name, rest.remove(name)?)))
+            .collect();
+        Some(Self {
+            outcome: s.outcome,
+            reason: s.reason,
+            t_reached: s.t_reached,
+            end_time: s.end_time,
+            particles: s.particles,
+            steps: s.steps,
+            wall_seconds: s.wall_seconds,
+            particle_steps_per_second: s.particle_steps_per_second,
+            stage_seconds: s.stage_seconds,
+            threads: s.threads,
+            derived: case.derived(),
+            errors: s.errors,
+            ppe: s.ppe,
+            max_density_deviation: s.max_density_deviation,
+            max_sound_speed: s.max_sound_speed,
+            neighbour_pairs_per_particle: s.neighbour_pairs_per_particle,
+            neighbour_searches: s.neighbour_searches,
+            probes,
+            version: env!("CARGO_PKG_VERSION"),
+            case: case.source.clone(),
+        })
+    }
+
     /// The steady-state entry of a run with a cylinder.
     pub fn steady(&self) -> Option<super::probes::steady::SteadySummary> {
         self.probes

@@ -50,6 +50,10 @@ pub struct StudyCommon {
     /// depend on it.
     #[arg(long, default_value_t = 1)]
     pub jobs: usize,
+    /// Do not rerun a run whose directory already holds the finished run of the same case
+    /// (resuming an interrupted study).
+    #[arg(long)]
+    pub reuse: bool,
     /// The charts' file format.
     #[arg(long, value_enum, default_value = "png")]
     pub figure_format: crate::app::plot::FigureFormat,
@@ -106,6 +110,7 @@ fn base_and_out(common: &StudyCommon, study: &str) -> Result<(Base, PathBuf)> {
     let base = Base {
         path: common.case.case.clone(),
         sets: common.case.set.clone(),
+        reuse: common.reuse,
     };
     let case = base.case(&[])?;
     let out = common

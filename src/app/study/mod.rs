@@ -47,6 +47,10 @@ pub struct Finished {
 pub struct Base {
     pub path: PathBuf,
     pub sets: Vec<String>,
+    /// Reuse finished runs: a run directory that holds a `summary.json` and whose `case.toml`
+    /// is this run's case is read instead of run again (a long study resumed after an
+    /// interruption; `--reuse`).
+    pub reuse: bool,
 }
 
 impl Base {
@@ -192,6 +196,18 @@ pub fn run_all(
     let done = AtomicUsize::new(0);
     let run_one = |(variant, case): (Variant, Case)| -> Result<Finished> {
         let dir = out.join("runs").join(slug(&variant.label));
+        if base.reuse {
+            if let Some(summary) = finished_run(&dir, &case) {
+                let series = crate::app::io::read_series(&dir.join("series.csv"))?;
+                return Ok(Finished {
+                    variant,
+                    case,
+                    summary,
+                    series,
+                    dir,
+                });
+            }
+        }
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()?;
@@ -271,6 +287,16 @@ pub fn run_all(
                 .unwrap_or_else(|| Err(anyhow::anyhow!("a study run did not report")))
         })
         .collect()
+}
+
+/// The summary of the finished run of `case` in `dir`, if there is one.
+fn finished_run(dir: &Path, case: &Case) -> Option<Summary> {
+    let ran = std::fs::read_to_string(dir.join(run::CASE_FILE)).ok()?;
+    if ran != toml::to_string(&case.source).ok()? {
+        return None;
+    }
+    let summary = std::fs::read_to_string(dir.join("summary.json")).ok()?;
+    Summary::read(&summary, case)
 }
 
 /// Least-squares slope of log y against log x (the observed order), over positive pairs.
