@@ -217,10 +217,11 @@ fn charts(
     profiles: &[(f64, Vec<[f64; 4]>)],
     reference: Option<&[(f64, f64)]>,
 ) -> Result<()> {
-    for (k, name, y) in [
-        (1, "centreline_u.png", "u/<u>"),
-        (2, "centreline_tau_xx.png", "tau_xx/(eta_s <u>/R)"),
-        (3, "centreline_det_a.png", "det A"),
+    // det A spans orders of magnitude over Wi (≥ 1 for Oldroyd-B): a log axis.
+    for (k, name, y, log_y) in [
+        (1, "centreline_u.png", "u/<u>", false),
+        (2, "centreline_tau_xx.png", "tau_xx/(eta_s <u>/R)", false),
+        (3, "centreline_det_a.png", "det A", true),
     ] {
         let curves: Vec<Curve> = profiles
             .iter()
@@ -239,6 +240,7 @@ fn charts(
                 title: format!("Centre-line between cylinders: {y}"),
                 x_label: "s (0: downstream edge of a cylinder)".into(),
                 y_label: y.into(),
+                log_y,
                 ..Default::default()
             },
             &curves,
