@@ -70,6 +70,12 @@ $R study cylinder cases/cylinder-array.toml --set scene.resolution=54 --wi 1,2,4
   --out plots/cylinder-array/study-54-high-wi
 $R study cylinder cases/cylinder-array.toml --set scene.resolution=36 --set scheme.dt_factor=0.05 \
   --wi 4,8,16 --out plots/cylinder-array/study-36-high-wi-dt0.05
+# The paper's P2 (R/dr = 36) at Wi = 1 ... 16 with <u> held at 1, by grid sequencing: each Wi
+# runs at R/dr = 9 to t = 40 and 18 to t = 15 first, each stage from the previous one's state
+# (hours on a 2-core machine; --reuse resumes an interrupted study).
+$R study cylinder cases/cylinder-array.toml --wi 1,2,4,8,16 --sequence 36:40,72:15 \
+  --set scene.mean_flow=1.0 --set run.end_time=8 --jobs 2 --reuse \
+  --out plots/cylinder-array/p2-high-wi
 # The confined cylinder (30R x 4R periodic, R/dr = 10) against the published drag.
 $R study cylinder cases/confined-cylinder.toml --wi 0,0.1,0.3,0.5,0.7 \
   --reference cases/confined-cylinder-drag.csv --out plots/confined-cylinder
