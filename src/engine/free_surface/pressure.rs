@@ -17,17 +17,20 @@ use serde::{Deserialize, Serialize};
 /// Fewest neighbours (a quarter of a full support's ~48) for which a free-surface particle's
 /// velocity gradient, and so its normal-stress pressure (35a), is trusted. Measured: the
 /// Oldroyd-B jet at Wi = 5/3 broke down at t = 0.30 s after a surface particle with 7
-/// neighbours carried p = 912 Pa from (35a). A sparser one takes the kernel-weighted mean of
-/// its trusted surface neighbours' values ([`sparse_surface_pressure`]), or p = 0 where it has
-/// none (a splash, a thread's tip).
+/// neighbours carried p = 912 Pa from (35a). A sparser one takes p = 0, or with
+/// [`SurfacePressure::NormalStressNeighbours`] the kernel-weighted mean of its trusted surface
+/// neighbours' values ([`sparse_surface_pressure`]; p = 0 where it has none).
 pub(crate) const MIN_SURFACE_NEIGHBOURS: usize = 12;
 
 /// The rule named in a case file (`scheme.free_surface_pressure`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum SurfacePressure {
-    /// King & Lind's normal-stress balance (35a): p = 2η_s n·D·n + n·τ_p·n.
+    /// King & Lind's normal-stress balance (35a): p = 2η_s n·D·n + n·τ_p·n; p = 0 on sparse
+    /// surface particles.
     NormalStress,
+    /// (35a), with sparse surface particles taking their trusted surface neighbours' mean.
+    NormalStressNeighbours,
     /// The usual ISPH condition p = 0.
     Zero,
 }
@@ -36,6 +39,10 @@ impl SurfacePressure {
     pub fn rule(self) -> Box<dyn SurfacePressureRule> {
         match self {
             SurfacePressure::NormalStress => Box::new(NormalStress::default()),
+            SurfacePressure::NormalStressNeighbours => Box::new(NormalStress {
+                sparse_from_neighbours: true,
+                ..Default::default()
+            }),
             SurfacePressure::Zero => Box::new(Zero),
         }
     }
@@ -80,6 +87,8 @@ impl SurfacePressureRule for Zero {
 #[derive(Default)]
 pub struct NormalStress {
     grad_u_star: Vec<Mat2>,
+    /// Sparse surface particles take their trusted neighbours' mean (else p = 0).
+    sparse_from_neighbours: bool,
 }
 
 impl SurfacePressureRule for NormalStress {
@@ -113,6 +122,9 @@ impl SurfacePressureRule for NormalStress {
                 let eta = factor.get(i).map_or(eta_s, |phi| phi * eta_s);
                 *p = normal_stress_pressure(normal[i], &grad[i], &tau, eta);
             });
+        if !self.sparse_from_neighbours {
+            return;
+        }
         let trusted = |j: usize| {
             j < n
                 && fs[j]
@@ -138,7 +150,9 @@ impl SurfacePressureRule for NormalStress {
 /// (35a) is a fair value where the particle's own velocity gradient is not; p = 0 instead
 /// broke the FENE-CR jet (L² = 10): a surface particle that fell to 11 neighbours went from
 /// 161 Pa to 0 beside neighbours at 150–370 Pa, was kicked from 0.2 to 0.29 m/s in one
-/// output interval, and its tr A jumped from 5 to 9.8 (L² = 10).
+/// output interval, and its tr A jumped from 5 to 9.8 (L² = 10). Not the default: the
+/// Oldroyd-B jet at Wi = 1/3, which finishes with p = 0, shot a particle out of the box
+/// with it (README, *Jets*).
 pub fn sparse_surface_pressure(
     out: &mut [f64],
     list: &NeighbourList,
