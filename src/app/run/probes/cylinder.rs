@@ -25,14 +25,19 @@ pub struct CylinderProbe {
     samples: usize,
     centreline: Centreline,
     criterion: Option<SteadyCriterion>,
+    /// The case's end time: a run that never becomes steady averages its last `average` units.
+    run_end: f64,
     state: SteadyState,
 }
 
-/// What a checkpoint keeps: when the flow became steady and the averages since.
+/// What a checkpoint keeps: when the flow became steady and the averages since, and the
+/// averages over the run's last `average` time units while it is not steady.
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
 struct SteadyState {
     steady_at: Option<f64>,
     averages: Option<Averages>,
+    #[serde(default)]
+    tail: Option<Averages>,
 }
 
 impl CylinderProbe {
@@ -44,15 +49,18 @@ impl CylinderProbe {
             samples: ((2.0 * arc).ceil() as usize).max(64),
             centreline: Centreline::new(centre, circle.radius, case.scene.length(), 161),
             criterion: case.steady,
+            run_end: case.end_time,
             state: SteadyState::default(),
         }
     }
 
-    /// The averages of the steady window, or the final state alone without one.
+    /// The averages of the steady window; without one, those of the run's last `average`
+    /// time units; without those (no criterion), the final state alone.
     fn averages(&mut self, sim: &Simulation, rows: &[SeriesRow]) -> Averages {
-        match self.state.averages.take() {
-            Some(a) if a.samples > 0 => a,
-            _ => {
+        let steady = self.state.averages.take().filter(|a| a.samples > 0);
+        match steady.or_else(|| self.state.tail.take().filter(|a| a.samples > 0)) {
+            Some(a) => a,
+            None => {
                 let mut a = Averages::new(sim.state.time);
                 let profile = self.centreline.sample(sim, &sim.polymer_stress());
                 if let Some(last) = rows.last() {
@@ -98,10 +106,23 @@ impl Probe for CylinderProbe {
                 None
             }
             None => {
-                let t = criterion.reached(rows)?;
-                self.state.steady_at = Some(t);
-                self.state.averages = Some(Averages::new(t));
-                Some(t + criterion.average)
+                if let Some(t) = criterion.reached(rows) {
+                    self.state.steady_at = Some(t);
+                    self.state.averages = Some(Averages::new(t));
+                    return Some(t + criterion.average);
+                }
+                // Not steady (yet): the run's last `average` time units are averaged in case
+                // it never is.
+                let last = &rows[rows.len() - 1];
+                if last.t >= self.run_end - criterion.average - 1e-12 {
+                    let t0 = Instant::now();
+                    let profile = self.centreline.sample(sim, &sim.polymer_stress());
+                    let tail = self.state.tail.get_or_insert_with(|| Averages::new(last.t));
+                    tail.add(last, &profile);
+                    sim.timers
+                        .add(Stage::Diagnostics, t0.elapsed().as_secs_f64());
+                }
+                None
             }
         }
     }
