@@ -123,17 +123,11 @@ fn cylinder_study_runs_coarse_to_fine() {
         reuse: false,
     };
     let stage = study::cylinder::parse_stage("36:0.5").unwrap();
-    let rows = study::cylinder::run(
-        &base,
-        &[1.0],
-        &[stage],
-        None,
-        out.path(),
-        FigureFormat::Png,
-        1,
-        true,
-    )
-    .unwrap();
+    let run_study = |base: &Base| {
+        let format = FigureFormat::Png;
+        study::cylinder::run(base, &[1.0], &[stage], None, out.path(), format, 1, true).unwrap()
+    };
+    let rows = run_study(&base);
     let r_over_dr: Vec<f64> = rows.iter().map(|r| r.radius_over_dr).collect();
     assert_eq!(r_over_dr, [9.0, 13.5]);
     for r in &rows {
@@ -157,20 +151,10 @@ fn cylinder_study_runs_coarse_to_fine() {
     assert!(is_png(&out.path().join("centreline_det_a.png")));
     // `--reuse`: the same study again reads its finished runs back (the same wall times,
     // which a rerun would not reproduce).
-    let again = study::cylinder::run(
-        &Base {
-            reuse: true,
-            ..base
-        },
-        &[1.0],
-        &[stage],
-        None,
-        out.path(),
-        FigureFormat::Png,
-        1,
-        true,
-    )
-    .unwrap();
+    let again = run_study(&Base {
+        reuse: true,
+        ..base
+    });
     // (Equal to 1e-9, not bit for bit: the JSON float parser may miss the last ulp.)
     let same = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs();
     for (a, b) in rows.iter().zip(&again) {
