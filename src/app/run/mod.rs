@@ -88,11 +88,14 @@ pub fn continue_from(case: &Case, options: &RunOptions, from: &Path) -> Result<S
         checkpoint::FINAL_STATE_FILE
     );
     let mut sim = crate::engine::step::Simulation::new(case.setup());
-    let source = stored_simulation(from)?;
-    if source.spacing.to_bits() == sim.spacing.to_bits() {
+    let stored = stored_case(from)?;
+    if stored.scene.spacing().to_bits() == case.scene.spacing().to_bits() {
         checkpoint::read(&path, &mut sim)
             .map_err(|e| anyhow::anyhow!("continuing from {}: {e}", path.display()))?;
     } else {
+        let mut source = crate::engine::step::Simulation::new(stored.setup());
+        checkpoint::read(&path, &mut source)
+            .map_err(|e| anyhow::anyhow!("reading {}: {e}", path.display()))?;
         transfer::transfer(&source, &mut sim)
             .with_context(|| format!("interpolating the state of {}", from.display()))?;
     }
@@ -104,17 +107,11 @@ pub fn continue_from(case: &Case, options: &RunOptions, from: &Path) -> Result<S
     run_from(case, options, Start::Continued(Box::new(sim)))
 }
 
-/// The finished run in `dir` as it ended: its case (`case.toml`) set up and its final state
-/// restored.
-fn stored_simulation(dir: &Path) -> Result<crate::engine::step::Simulation> {
+/// The case the finished run in `dir` ran (its `case.toml`).
+fn stored_case(dir: &Path) -> Result<Case> {
     let text = std::fs::read_to_string(dir.join(CASE_FILE))
         .with_context(|| format!("reading {}", dir.join(CASE_FILE).display()))?;
-    let case = crate::setup::case::parse(&text, CASE_FILE, "stored", &[])?;
-    let mut sim = crate::engine::step::Simulation::new(case.setup());
-    let path = dir.join(checkpoint::FINAL_STATE_FILE);
-    checkpoint::read(&path, &mut sim)
-        .map_err(|e| anyhow::anyhow!("reading {}: {e}", path.display()))?;
-    Ok(sim)
+    Ok(crate::setup::case::parse(&text, CASE_FILE, "stored", &[])?)
 }
 
 /// Continues the run in `options.out_dir` from its last checkpoint (`checkpoint.bin`, with the

@@ -62,7 +62,7 @@ pub fn row(
             &sim.domain,
             &s.position,
             &s.conformation,
-            sim.particle_volume().sqrt(),
+            sim.spacing,
         ),
     }
 }

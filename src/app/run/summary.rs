@@ -74,9 +74,6 @@ pub struct Summary {
     pub case: crate::setup::case::CaseFile,
 }
 
-/// The probes' names in `summary.json`.
-const PROBE_NAMES: [&str; 6] = ["cavity", "steady", "discs", "drop", "jet", "meniscus"];
-
 /// What [`Summary::read`] takes from `summary.json`; the rest comes from the case.
 #[derive(serde::Deserialize)]
 struct Stored {
@@ -102,13 +99,13 @@ struct Stored {
 
 impl Summary {
     /// The summary a finished run of `case` wrote (`summary.json`'s text), read back: the
-    /// derived numbers and the case are `case`'s, the probes those of known name.
+    /// derived numbers and the case are `case`'s, the probes those `case` has.
     pub fn read(json: &str, case: &Case) -> Option<Self> {
         let s: Stored = serde_json::from_str(json).ok()?;
         let mut rest = s.rest;
-        let probes = PROBE_NAMES
-            .iter()
-            .filter_map(|&name| Some((name, rest.remove(name)?)))
+        let probes = super::probes::Probes::for_case(case)
+            .names()
+            .filter_map(|name| Some((name, rest.remove(name)?)))
             .collect();
         Some(Self {
             outcome: s.outcome,

@@ -72,7 +72,6 @@ pub fn transfer(source: &Simulation, target: &mut Simulation) -> Result<()> {
         })
         .collect();
     let t = &mut target.state;
-    let keep_identity = s.conformation.is_empty();
     for (i, v) in sampled.into_iter().enumerate() {
         let (u, a) = v.map_err(|x| {
             anyhow::anyhow!(
@@ -83,17 +82,12 @@ pub fn transfer(source: &Simulation, target: &mut Simulation) -> Result<()> {
         })?;
         t.velocity[i] = Vec2::new(u[0], u[1]);
         t.pressure[i] = u[2];
-        if !keep_identity {
-            t.conformation[i] = Sym2 {
-                xx: a[0],
-                xy: a[1],
-                yy: a[2],
-            };
+        // A Newtonian source leaves the target's conformation at rest (A = I).
+        if let [xx, xy, yy] = a[..] {
+            t.conformation[i] = Sym2 { xx, xy, yy };
         }
     }
     t.body_force = s.body_force;
-    t.time = 0.0;
-    t.steps = 0;
     let state = std::mem::take(&mut target.state);
     target.restore_state(state);
     Ok(())

@@ -108,10 +108,12 @@ impl SurfacePressureRule for NormalStress {
         let (conformation, list, prescribed) =
             (inputs.conformation, inputs.list, inputs.prescribed);
         let factor = inputs.viscosity_factor;
+        let surface = |i: usize| fs[i] && !prescribed.get(i).copied().unwrap_or(false);
+        let trusted =
+            |i: usize| i < n && surface(i) && list.range(i).len() >= MIN_SURFACE_NEIGHBOURS;
         out.par_iter_mut()
             .enumerate()
-            .filter(|(i, _)| fs[*i] && !prescribed.get(*i).copied().unwrap_or(false))
-            .filter(|(i, _)| list.range(*i).len() >= MIN_SURFACE_NEIGHBOURS)
+            .filter(|(i, _)| trusted(*i))
             .for_each(|(i, p)| {
                 let tau = if conformation.is_empty() {
                     Sym2::ZERO
@@ -122,21 +124,10 @@ impl SurfacePressureRule for NormalStress {
                 let eta = factor.get(i).map_or(eta_s, |phi| phi * eta_s);
                 *p = normal_stress_pressure(normal[i], &grad[i], &tau, eta);
             });
-        if !self.sparse_from_neighbours {
-            return;
+        if self.sparse_from_neighbours {
+            let sparse = |i: usize| surface(i) && !trusted(i);
+            sparse_surface_pressure(out, list, &inputs.sums.value, trusted, sparse);
         }
-        let trusted = |j: usize| {
-            j < n
-                && fs[j]
-                && !prescribed.get(j).copied().unwrap_or(false)
-                && list.range(j).len() >= MIN_SURFACE_NEIGHBOURS
-        };
-        let sparse = |i: usize| {
-            fs[i]
-                && !prescribed.get(i).copied().unwrap_or(false)
-                && list.range(i).len() < MIN_SURFACE_NEIGHBOURS
-        };
-        sparse_surface_pressure(out, list, &inputs.sums.value, trusted, sparse);
     }
 
     fn heap_bytes(&self) -> usize {

@@ -72,6 +72,15 @@ impl CylinderProbe {
     }
 }
 
+/// Adds `row` and the centre-line profile of the current state to `avg` (diagnostics time).
+fn add_sample(avg: &mut Averages, centreline: &Centreline, sim: &mut Simulation, row: &SeriesRow) {
+    let t0 = Instant::now();
+    let profile = centreline.sample(sim, &sim.polymer_stress());
+    avg.add(row, &profile);
+    sim.timers
+        .add(Stage::Diagnostics, t0.elapsed().as_secs_f64());
+}
+
 impl Probe for CylinderProbe {
     fn name(&self) -> &'static str {
         "steady"
@@ -96,35 +105,23 @@ impl Probe for CylinderProbe {
     /// after the averaging time.
     fn end_time(&mut self, sim: &mut Simulation, rows: &[SeriesRow]) -> Option<f64> {
         let criterion = self.criterion?;
-        match self.state.averages.as_mut() {
-            Some(avg) => {
-                let t0 = Instant::now();
-                let profile = self.centreline.sample(sim, &sim.polymer_stress());
-                avg.add(&rows[rows.len() - 1], &profile);
-                sim.timers
-                    .add(Stage::Diagnostics, t0.elapsed().as_secs_f64());
-                None
-            }
-            None => {
-                if let Some(t) = criterion.reached(rows) {
-                    self.state.steady_at = Some(t);
-                    self.state.averages = Some(Averages::new(t));
-                    return Some(t + criterion.average);
-                }
-                // Not steady (yet): the run's last `average` time units are averaged in case
-                // it never is.
-                let last = &rows[rows.len() - 1];
-                if last.t >= self.run_end - criterion.average - 1e-12 {
-                    let t0 = Instant::now();
-                    let profile = self.centreline.sample(sim, &sim.polymer_stress());
-                    let tail = self.state.tail.get_or_insert_with(|| Averages::new(last.t));
-                    tail.add(last, &profile);
-                    sim.timers
-                        .add(Stage::Diagnostics, t0.elapsed().as_secs_f64());
-                }
-                None
-            }
+        let last = &rows[rows.len() - 1];
+        if let Some(avg) = self.state.averages.as_mut() {
+            add_sample(avg, &self.centreline, sim, last);
+            return None;
         }
+        if let Some(t) = criterion.reached(rows) {
+            self.state.steady_at = Some(t);
+            self.state.averages = Some(Averages::new(t));
+            return Some(t + criterion.average);
+        }
+        // Not steady (yet): the run's last `average` time units are averaged in case it
+        // never is.
+        if last.t >= self.run_end - criterion.average - 1e-12 {
+            let tail = self.state.tail.get_or_insert_with(|| Averages::new(last.t));
+            add_sample(tail, &self.centreline, sim, last);
+        }
+        None
     }
 
     fn checkpoint(&self) -> Option<serde_json::Value> {

@@ -100,6 +100,11 @@ impl Probes {
         Self(probes)
     }
 
+    /// The probes' names (their entries in `summary.json`).
+    pub fn names(&self) -> impl Iterator<Item = &'static str> + '_ {
+        self.0.iter().map(|p| p.name())
+    }
+
     /// Fills the probes' columns of `row`.
     pub fn fill_row(&mut self, sim: &mut Simulation, row: &mut SeriesRow) {
         self.0.iter_mut().for_each(|p| p.fill_row(sim, row));
