@@ -3,7 +3,7 @@
 //! EVSS tensor Φ = τ_p − α_V η0 2D of eq. (6) and its divergence for the predictor, in the
 //! form of (20) the scene needs (negative in closed domains, positive with free surfaces).
 
-use super::remap::{limit_increments, Remap};
+use super::remap::{keep_trace_floor, limit_increments, Remap};
 use super::{
     direct_step, direct_step_strang, log_conformation_step, log_conformation_step_strang, Fluid,
     Model,
@@ -186,16 +186,18 @@ impl ConformationStage {
         u_ps: &[Vec2],
         dt: f64,
     ) {
+        let ext = &self.tensor_ext;
+        let rate = &mut self.advection;
         match self.remap {
-            Remap::Central | Remap::Limited => {
-                sums.advective_tensor(list, &self.tensor_ext, u_ps, &mut self.advection)
+            Remap::Central => sums.advective_tensor(list, ext, u_ps, rate),
+            Remap::Limited => {
+                sums.advective_tensor(list, ext, u_ps, rate);
+                keep_trace_floor(list, ext, dt, rate);
             }
             Remap::Upwind => {
-                sums.advective_tensor_upwind(list, &self.tensor_ext, u_ps, &mut self.advection)
+                sums.advective_tensor_upwind(list, ext, u_ps, rate);
+                limit_increments(list, ext, dt, rate);
             }
-        }
-        if self.remap != Remap::Central {
-            limit_increments(list, &self.tensor_ext, dt, &mut self.advection);
         }
     }
 
