@@ -67,6 +67,7 @@ mod tests {
             density: 1.0,
             motion: Motion::Free,
             acceleration: Vec2::zeros(),
+            coupling_added_mass: 1.0,
         }
     }
 

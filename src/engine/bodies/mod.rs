@@ -21,8 +21,15 @@
 //! response over a step; measured: T changed by 7.9·10³ when Ω went from −8.2 to 8.2 at
 //! R/δr = 8, η = 10, i.e. k_Ω = 482, against 2πηR³/δr = 503). Without the k_Ω term the freely
 //! rotating disc of `cases/disc-in-shear.toml` flipped its spin every step (δt k_Ω/I = 2.1 > 2).
-//! m_a = ρ_f πR² is the added mass of a circle (potential flow), the classic instability of
-//! explicit coupling for light bodies; free discs are kept to ρ_s ≥ ρ_f.
+//! m_a = c_a ρ_f πR², with c_a = 1 (`coupling_added_mass`) the added mass of a circle in
+//! unbounded potential flow: the classic instability of explicit coupling for light bodies.
+//! If the fluid's true response to a mode of the discs' accelerations has added mass M, the
+//! lagged term makes the error of that mode grow by (m_a − M)/(m + m_a) per step, so the
+//! coupling is stable for M < m + 2m_a. A lone disc (M ≈ ρ_f πR²) is stable for any ρ_s ≥ ρ_f;
+//! rows of discs in a closed box, moving against each other, squeeze the fluid between them
+//! and have a larger M: twelve discs at ρ_s = 2ρ_f (M ≈ 4ρ_f πR² there) alternated their
+//! forces step by step with c_a = 1 and settle with c_a = 3 (README). m_a vanishes at a
+//! steady state; a larger c_a only slows the approach to it. Free discs are kept to ρ_s ≥ ρ_f.
 //!
 //! Under g_s the discs settle as in a closed container: [`Bodies::hold_return_flow`] keeps
 //! the net volume flux along the periodic axis at zero (module docs there).
@@ -61,6 +68,8 @@ pub struct Disc {
     pub motion: Motion,
     /// The last step's acceleration (V^n − V^{n−1})/δt.
     pub acceleration: Vec2,
+    /// m_a of the coupling in units of ρ_f πR² (1: the unbounded disc's; module docs).
+    pub coupling_added_mass: f64,
 }
 
 /// The evolving part of a disc (what a checkpoint stores).
@@ -163,8 +172,9 @@ impl Disc {
             Motion::FreeRotation => self.spin = spin(self),
             Motion::Free => {
                 self.spin = spin(self);
-                let added = c.fluid_density * std::f64::consts::PI * r * r;
-                let buoyant = self.mass() - added;
+                let displaced = c.fluid_density * self.area();
+                let buoyant = self.mass() - displaced;
+                let added = self.coupling_added_mass * displaced;
                 let force = load.force.total()
                     + contact
                     + self.mass() * g

@@ -29,6 +29,10 @@ pub struct DiscSpec {
     /// ρ_s/ρ_f (default 1, neutrally buoyant).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub density_ratio: Option<f64>,
+    /// The added mass the staggered coupling assumes, in units of ρ_f πR² (default 1, the
+    /// unbounded disc's; more where discs crowd each other in a closed box).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub coupling_added_mass: Option<f64>,
 }
 
 /// A validated disc; its density is `density_ratio` times the fluid's, set at build.
@@ -39,6 +43,7 @@ pub struct DiscPlan {
     pub spin: f64,
     pub density_ratio: f64,
     pub motion: Motion,
+    pub coupling_added_mass: f64,
 }
 
 impl DiscPlan {
@@ -50,6 +55,7 @@ impl DiscPlan {
             density: self.density_ratio * fluid_density,
             motion: self.motion,
             acceleration: Vec2::zeros(),
+            coupling_added_mass: self.coupling_added_mass,
         }
     }
 
@@ -101,12 +107,23 @@ impl DiscSpec {
                 format!("a free disc lighter than the fluid ({density_ratio}) meets the added-mass instability of the explicit coupling; at least 1"),
             ));
         }
+        let coupling_added_mass = match self.coupling_added_mass {
+            None => 1.0,
+            Some(c) if c.is_finite() && c >= 1.0 => c,
+            Some(c) => {
+                return Err(field_err(
+                    &format!("{field}.coupling_added_mass"),
+                    format!("the coupling's added mass in units of rho_f pi R^2 must be at least 1 (the unbounded disc's), got {c}"),
+                ))
+            }
+        };
         Ok(DiscPlan {
             circle,
             velocity: Vec2::new(velocity[0], velocity[1]),
             spin,
             density_ratio,
             motion,
+            coupling_added_mass,
         })
     }
 }
