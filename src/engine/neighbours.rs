@@ -119,6 +119,9 @@ const FILTER_BLOCK: usize = 128;
 /// support-wide cells (measured: ~30 % less time in the search).
 const SUBDIVISION: usize = 2;
 const STENCIL: usize = 2 * SUBDIVISION + 1;
+/// The most cells per point a grid may have (a compact fluid needs about one; the empty
+/// cells around a free surface a few).
+const MAX_CELLS_PER_POINT: usize = 16;
 
 /// Pairs closer than this fraction of the support are coincident points: they carry no
 /// gradient information and would divide by zero in the Laplacian, so they are skipped.
@@ -134,11 +137,17 @@ struct Grid {
 }
 
 impl Grid {
+    /// Cells of width support/[`SUBDIVISION`] over the box (periodic axes) or the points'
+    /// extent; cells widen (never below that width, so the stencil still covers the support)
+    /// where that extent would need more than [`MAX_CELLS_PER_POINT`] cells a point: a particle
+    /// thrown far out in a breaking-down step must not make the grid allocate without bound
+    /// before the breakdown check reports it.
     fn new(domain: &Domain, points: &[Vec2], support: f64) -> Self {
         let mut origin = domain.min;
         let cell = support / SUBDIVISION as f64;
         let mut width = Vec2::new(cell, cell);
         let mut n = [1usize; 2];
+        let mut extent = [0.0; 2];
         for a in 0..2 {
             if domain.periodic[a] {
                 let length = domain.max[a] - domain.min[a];
@@ -147,13 +156,30 @@ impl Grid {
             } else {
                 let (lo, hi) = points
                     .iter()
+                    .filter(|p| p[a].is_finite())
                     .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
                         (lo.min(p[a]), hi.max(p[a]))
                     });
                 let (lo, hi) = if lo.is_finite() { (lo, hi) } else { (0.0, 0.0) };
                 origin[a] = lo;
-                n[a] = (((hi - lo) / cell).floor() as usize + 1).max(1);
+                extent[a] = hi - lo;
             }
+        }
+        let cells = |width: f64, a: usize| ((extent[a] / width).floor() as usize).saturating_add(1);
+        for a in (0..2).filter(|&a| !domain.periodic[a]) {
+            n[a] = cells(width[a], a);
+        }
+        // Widen the free axis with the most cells until the count fits.
+        let limit = (MAX_CELLS_PER_POINT * points.len()).max(64);
+        while n[0].saturating_mul(n[1]) > limit {
+            let Some(a) = (0..2)
+                .filter(|&a| !domain.periodic[a] && n[a] > 1)
+                .max_by_key(|&a| n[a])
+            else {
+                break;
+            };
+            width[a] *= 2.0;
+            n[a] = cells(width[a], a);
         }
         Self {
             origin,
@@ -539,6 +565,39 @@ mod tests {
         check(domain, 0.13);
         // The smallest periodic box the search supports: exactly three cells.
         check(domain, 0.3333);
+    }
+
+    /// A particle thrown far out (as in a step that breaks down, before the check reports
+    /// it) widens the cells instead of allocating a cell per support width of its distance
+    /// (a jet run once asked for 3.7·10¹³ bytes); the lists stay exact.
+    #[test]
+    fn a_far_outlier_widens_the_cells_and_keeps_the_lists_exact() {
+        for domain in [
+            unit_channel(),
+            Domain {
+                min: Vec2::new(0.0, 0.0),
+                max: Vec2::new(1.0, 1.0),
+                periodic: [false, false],
+            },
+        ] {
+            let mut pts = points(1500, &domain, 0.2);
+            pts[7] = Vec2::new(0.5, 1.0e12);
+            pts[11] = Vec2::new(f64::INFINITY, f64::NAN);
+            let grid = Grid::new(&domain, &pts, 0.13);
+            assert!(
+                grid.count() <= MAX_CELLS_PER_POINT * pts.len(),
+                "{:?}",
+                grid.n
+            );
+            let mut list = NeighbourList::default();
+            NeighbourSearch::new().build(&domain, &pts, 1000, 0.13, &mut list);
+            let expected = brute_force(&domain, &pts, 1000, 0.13);
+            for (i, exp) in expected.iter().enumerate().filter(|(i, _)| *i != 11) {
+                let mut got: Vec<u32> = list.index[list.range(i)].to_vec();
+                got.sort();
+                assert_eq!(&got, exp, "row {i}");
+            }
+        }
     }
 
     #[test]
