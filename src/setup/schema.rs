@@ -169,6 +169,33 @@ pub enum IntegratorChoice {
     Strang,
 }
 
+/// The ALE remap of the conformation (`scheme.conformation_remap`; see
+/// `engine::rheology::remap`).
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum RemapChoice {
+    /// `second-order` in the Eulerian frame (the remap is the whole transport, and the
+    /// first-order increment's forward-Euler growth sets its step), `limited` otherwise.
+    Auto,
+    Limited,
+    Central,
+    Upwind,
+    SecondOrder,
+}
+
+impl RemapChoice {
+    /// The remap for `frame`.
+    pub fn resolve(self, frame: Frame) -> Remap {
+        match self {
+            RemapChoice::Auto if frame == Frame::Eulerian => Remap::SecondOrder,
+            RemapChoice::Auto | RemapChoice::Limited => Remap::Limited,
+            RemapChoice::Central => Remap::Central,
+            RemapChoice::Upwind => Remap::Upwind,
+            RemapChoice::SecondOrder => Remap::SecondOrder,
+        }
+    }
+}
+
 /// The time integrator (`scheme.method`).
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "kebab-case")]
@@ -214,9 +241,11 @@ pub struct SchemeSpec {
     /// The velocity gradient of the constitutive update: `auto`, `solenoidal`,
     /// `wall-normal-even` or `raw` (see `engine::kinematics`).
     pub constitutive_gradient: GradientChoice,
-    /// The ALE remap u_ps·∇Ψ of the conformation: `limited` (default; never leaves the
-    /// neighbours' range) or `central` (the paper's; see `engine::rheology::remap`).
-    pub conformation_remap: Remap,
+    /// The ALE remap u_ps·∇Ψ of the conformation: `auto` (default: `second-order` in the
+    /// Eulerian frame, `limited` otherwise), `limited` (the central increment with the trace
+    /// floor: det A ≥ 1), `central` (the paper's), `upwind`, or `second-order` (the limited
+    /// increment with its Taylor series' second-order term; see `engine::rheology::remap`).
+    pub conformation_remap: RemapChoice,
     /// Fickian shifting (with `wcsph` the density is then carried by the ALE term u_ps·∇ρ).
     /// On by default for both methods: without it the weakly compressible channel breaks
     /// down by t ≈ 1 (README); Fang et al.'s drop, which had none, sets it off.
@@ -292,7 +321,7 @@ impl Default for SchemeSpec {
             conformation: ConformationScheme::Log,
             conformation_integrator: IntegratorChoice::Auto,
             constitutive_gradient: GradientChoice::Auto,
-            conformation_remap: Remap::Limited,
+            conformation_remap: RemapChoice::Auto,
             shifting: true,
             evss_alpha: 0.0,
             dt_factor: 0.2,

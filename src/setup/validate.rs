@@ -342,7 +342,7 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
             GradientChoice::Raw => ConstitutiveGradient::Raw,
             GradientChoice::WallNormalEven => ConstitutiveGradient::WallNormalEven,
         },
-        conformation_remap: s.conformation_remap,
+        conformation_remap: s.conformation_remap.resolve(s.frame),
         shifting: s.shifting,
         evss_alpha,
         dt_factor: s.dt_factor,
