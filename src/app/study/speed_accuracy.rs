@@ -1,8 +1,11 @@
 //! `rheosph study speed-accuracy`: wall time against L2 error, one point per configuration
 //! (resolution × variant), with the Pareto front: the cheapest configuration for each
-//! required accuracy.
+//! required accuracy; and each run's error at every output against the first variant's at
+//! the same resolution (the largest ratio, `max_output_ratio`; `l2_vs_time.png`), since a
+//! time-mean can hide a start-up that a cheaper scheme gets wrong.
 
-use super::{run_all, Base, Variant};
+use super::{run_all, Base, Finished, Variant};
+use crate::app::io::SeriesRow;
 use crate::app::plot::FigureFormat;
 use crate::app::plot::{self, Chart, Curve, CurveStyle, PALETTE};
 use anyhow::Result;
@@ -21,6 +24,39 @@ pub struct Point {
     pub particles: usize,
     pub steps: u64,
     pub pareto: bool,
+    /// The largest ratio of this run's L2 error to the first variant's at the same
+    /// resolution, over the outputs (t > 0) within both runs, and the time it occurs (NaN:
+    /// no common output).
+    pub max_output_ratio: (f64, f64),
+}
+
+/// The largest ratio of `run`'s L2 error to `reference`'s, the reference interpolated
+/// linearly in t to the run's outputs, over the outputs with t > 0 inside the reference's
+/// span where both are finite and the reference positive; (ratio, t), NaN when none.
+pub fn max_output_ratio(run: &[SeriesRow], reference: &[SeriesRow]) -> (f64, f64) {
+    let rows: Vec<(f64, f64)> = reference
+        .iter()
+        .filter(|r| r.t > 0.0 && r.l2_error.is_finite())
+        .map(|r| (r.t, r.l2_error))
+        .collect();
+    let at = |t: f64| {
+        let k = rows.partition_point(|&(s, _)| s < t);
+        match (rows.get(k.wrapping_sub(1)), rows.get(k)) {
+            (_, Some(&(s, e))) if s == t => Some(e),
+            (Some(&(s0, e0)), Some(&(s1, e1))) => Some(e0 + (e1 - e0) * (t - s0) / (s1 - s0)),
+            _ => None,
+        }
+    };
+    run.iter()
+        .filter(|r| r.t > 0.0 && r.l2_error.is_finite())
+        .filter_map(|r| at(r.t).filter(|&e| e > 0.0).map(|e| (r.l2_error / e, r.t)))
+        .fold((f64::NAN, f64::NAN), |best, q| {
+            if best.0.is_nan() || q.0 > best.0 {
+                q
+            } else {
+                best
+            }
+        })
 }
 
 /// Marks the points no other point beats in both wall time and error.
@@ -72,15 +108,22 @@ pub fn run(
             particles: f.summary.particles,
             steps: f.summary.steps,
             pareto: false,
+            max_output_ratio: finished
+                .iter()
+                .find(|g| g.case.scene.resolution() == f.case.scene.resolution())
+                .map_or((f64::NAN, f64::NAN), |g| {
+                    max_output_ratio(&f.series, &g.series)
+                }),
         })
         .collect();
     mark_pareto(&mut points);
-    let mut csv =
-        String::from("label,resolution,particles,steps,wall_seconds,l2_mean,l2_final,pareto\n");
+    let mut csv = String::from(
+        "label,resolution,particles,steps,wall_seconds,l2_mean,l2_final,pareto,max_output_ratio,ratio_at\n",
+    );
     for p in &points {
         let _ = writeln!(
             csv,
-            "{},{},{},{},{:.3},{:.6e},{:.6e},{}",
+            "{},{},{},{},{:.3},{:.6e},{:.6e},{},{:.4},{:.4}",
             p.label,
             p.resolution,
             p.particles,
@@ -88,9 +131,12 @@ pub fn run(
             p.wall_seconds,
             p.l2_mean,
             p.l2_final,
-            p.pareto
+            p.pareto,
+            p.max_output_ratio.0,
+            p.max_output_ratio.1
         );
     }
+    draw_error_histories(&finished, out, format)?;
     crate::app::io::write_atomic(&out.join("speed_accuracy.csv"), csv.as_bytes())?;
     let mut front: Vec<(f64, f64)> = points
         .iter()
@@ -136,6 +182,37 @@ pub fn run(
     Ok(points)
 }
 
+/// `l2_vs_time.png`: every run's L2 error against time.
+fn draw_error_histories(finished: &[Finished], out: &Path, format: FigureFormat) -> Result<()> {
+    let curves: Vec<Curve> = finished
+        .iter()
+        .enumerate()
+        .map(|(k, f)| Curve {
+            label: f.variant.label.clone(),
+            points: f
+                .series
+                .iter()
+                .filter(|r| r.t > 0.0 && r.l2_error > 0.0)
+                .map(|r| (r.t, r.l2_error))
+                .collect(),
+            style: CurveStyle::Line,
+            color: PALETTE[k % PALETTE.len()],
+        })
+        .collect();
+    plot::draw(
+        &out.join("l2_vs_time.png"),
+        format,
+        &Chart {
+            title: "Velocity L2 error against time".into(),
+            x_label: "t".into(),
+            y_label: "L2 error / U".into(),
+            log_y: true,
+            ..Default::default()
+        },
+        &curves,
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -152,10 +229,40 @@ mod tests {
             particles: 0,
             steps: 0,
             pareto: false,
+            max_output_ratio: (f64::NAN, f64::NAN),
         };
         let mut pts = vec![p(1.0, 0.1), p(2.0, 0.05), p(3.0, 0.2), p(4.0, 0.01)];
         mark_pareto(&mut pts);
         let front: Vec<bool> = pts.iter().map(|p| p.pareto).collect();
         assert_eq!(front, vec![true, true, false, true]);
+    }
+
+    /// The ratio is taken at the run's outputs against the reference interpolated there;
+    /// t = 0, outputs past the reference's last and a zero reference are skipped.
+    #[test]
+    fn the_output_ratio_interpolates_the_reference_and_finds_the_largest() {
+        let row = |t: f64, e: f64| SeriesRow {
+            t,
+            l2_error: e,
+            ..Default::default()
+        };
+        let reference = [
+            row(0.0, 0.0),
+            row(1.0, 0.01),
+            row(2.0, 0.03),
+            row(3.0, 0.02),
+        ];
+        let run = [
+            row(0.0, 0.0),
+            row(0.5, 0.04),
+            row(1.5, 0.03),
+            row(2.0, 0.036),
+            row(4.0, 1.0),
+        ];
+        let (ratio, at) = max_output_ratio(&run, &reference);
+        // 0.5 lies before the reference's first positive output; 1.5: 0.03/0.02 = 1.5;
+        // 2.0: 1.2; 4.0 is past the reference.
+        assert!((ratio - 1.5).abs() < 1e-12 && at == 1.5, "{ratio} at {at}");
+        assert!(max_output_ratio(&run, &[]).0.is_nan());
     }
 }
