@@ -58,6 +58,20 @@ pub struct DropTable {
     /// (default 1: the disc).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub aspect_ratio: Option<f64>,
+    /// How the disc is filled: `rings` (default; concentric rings, whose outer ring is
+    /// already the circle) or `square` (the lattice cut to the disc: a staircase surface,
+    /// which surface tension must first round, the harder Laplace test).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lattice: Option<DropLattice>,
+}
+
+/// The particle arrangement of a free drop (`scene.drop.lattice`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum DropLattice {
+    #[default]
+    Rings,
+    Square,
 }
 
 /// A validated drop scene.
@@ -71,6 +85,7 @@ pub struct Drop {
     pub aspect_ratio: f64,
     /// θ (radians) at the plate.
     pub contact_angle: Option<f64>,
+    pub lattice: DropLattice,
 }
 
 impl DropSpec {
@@ -142,6 +157,7 @@ impl DropSpec {
             plate,
             aspect_ratio,
             contact_angle,
+            lattice: d.lattice.unwrap_or_default(),
         })
     }
 }
@@ -248,7 +264,10 @@ impl Drop {
             return resting_cap(c, radius, dr);
         }
         let stretch = self.aspect_ratio.sqrt();
-        let mut points = disc(c, 0.5 * self.shape.diameter, self.spacing());
+        let mut points = match self.lattice {
+            DropLattice::Rings => disc(c, radius, dr),
+            DropLattice::Square => square_disc(c, radius, dr),
+        };
         if self.aspect_ratio != 1.0 {
             for p in points.iter_mut() {
                 let r = *p - c;
@@ -257,6 +276,17 @@ impl Drop {
         }
         points
     }
+}
+
+/// The lattice points c + ((i + ½)δr, (j + ½)δr) within `radius` of c: the disc on the
+/// square lattice, symmetric about both axes through c.
+fn square_disc(centre: Vec2, radius: f64, dr: f64) -> Vec<Vec2> {
+    let n = (radius / dr).ceil() as i64 + 1;
+    (-n..n)
+        .flat_map(|i| (-n..n).map(move |j| (i, j)))
+        .map(|(i, j)| centre + Vec2::new((i as f64 + 0.5) * dr, (j as f64 + 0.5) * dr))
+        .filter(|p| (p - centre).norm() <= radius)
+        .collect()
 }
 
 /// The part of the disc of `radius` about `centre` above the plate y = 0, on the square
