@@ -56,6 +56,8 @@ pub struct Scheme {
     pub laplacian_order: LaplacianOrder,
     /// Free surfaces: the Dirichlet pressure rule.
     pub free_surface_pressure: SurfacePressure,
+    /// The PPE row of a surface particle in a wall's first half-spacing.
+    pub contact_line_rows: crate::engine::free_surface::ContactRows,
     /// Free surfaces: the repulsive term of (42)–(44) in the shifting of internal particles.
     pub surface_repulsion: bool,
     /// How a surface tension acts: in the free-surface pressure or as a cohesion force.

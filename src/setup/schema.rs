@@ -5,7 +5,7 @@
 
 use crate::engine::boundary::{TensorMirror, WallModel, WallPressure};
 use crate::engine::frame::Frame;
-use crate::engine::free_surface::{SurfacePressure, SurfaceTensionForm};
+use crate::engine::free_surface::{ContactRows, SurfacePressure, SurfaceTensionForm};
 use crate::engine::operators::{GradientOrder, LaplacianOrder};
 use crate::engine::rheology::{ConformationScheme, Remap};
 use crate::engine::scheme::PpeSolver;
@@ -295,6 +295,10 @@ pub struct SchemeSpec {
     pub projection: ProjectionChoice,
     /// Free surfaces: `normal-stress` (35a) or `zero` Dirichlet pressure.
     pub free_surface_pressure: SurfacePressure,
+    /// Free surfaces: `surface` (every surface particle a Dirichlet row, the paper's) or
+    /// `wall` (a surface particle within δr/2 of a wall an interior row, held off the wall
+    /// by the PPE; not with `scene.contact_angle`); see `engine::free_surface::ContactRows`.
+    pub contact_line_rows: ContactRows,
     /// Free surfaces: the repulsive term of (42)–(44) in the shifting of internal particles
     /// (King & Lind: helpful for Re < 5).
     pub surface_repulsion: bool,
@@ -347,6 +351,7 @@ impl Default for SchemeSpec {
             laplacian_order: LaplacianOrder::First,
             projection: ProjectionChoice::Auto,
             free_surface_pressure: SurfacePressure::NormalStress,
+            contact_line_rows: ContactRows::Surface,
             surface_repulsion: true,
             surface_tension: SurfaceTensionForm::NormalStress,
         }

@@ -2,7 +2,7 @@
 //! engine's types (the scene validates itself, see [`crate::setup::scenes`]).
 
 use crate::engine::frame::Frame;
-use crate::engine::free_surface::SurfaceTensionForm;
+use crate::engine::free_surface::{ContactRows, SurfaceTensionForm};
 use crate::engine::projection::Projection;
 use crate::engine::rheology::models::Parameter;
 use crate::engine::rheology::{Fluid, LawEntry, Model, Solvent, ViscosityLaw, LAWS, MODELS};
@@ -99,6 +99,12 @@ pub fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
         return Err(field_err(
             "scene.contact_angle",
             "a contact angle needs a surface tension (set fluid.surface_tension > 0)",
+        ));
+    }
+    if scene.contact_angle().is_some() && scheme.contact_line_rows == ContactRows::Wall {
+        return Err(field_err(
+            "scheme.contact_line_rows",
+            "`wall` takes the contact-line particles off the surface's Dirichlet rows, through which a contact angle acts: use `surface` with scene.contact_angle",
         ));
     }
     if scheme.surface_tension == SurfaceTensionForm::Cohesion && scheme.method == Method::Projection
@@ -392,6 +398,7 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
         gradient_order: s.gradient_order,
         laplacian_order: s.laplacian_order,
         free_surface_pressure: s.free_surface_pressure,
+        contact_line_rows: s.contact_line_rows,
         surface_repulsion: s.surface_repulsion,
         surface_tension: s.surface_tension,
     })

@@ -185,7 +185,7 @@ impl Simulation {
             )),
             free_surface: setup.free_surface.then(|| {
                 FreeSurfaceStage::new(
-                    scheme.free_surface_pressure,
+                    (scheme.free_surface_pressure, scheme.contact_line_rows),
                     if cohesive { 0.0 } else { fluid.surface_tension },
                     setup.spacing,
                     wetting,
@@ -609,6 +609,7 @@ impl Simulation {
                     buffer,
                 );
                 st.projection.dirichlet_for_unknown(values, &s.pressure);
+                fs.choose_rows(&st.hood.points, hood.2);
                 fs.dirichlet()
             });
             let dirichlet = dirichlet.unwrap_or((&[], &[]));
