@@ -115,32 +115,7 @@ fn charts(
     out: &Path,
     format: FigureFormat,
 ) -> Result<()> {
-    let mut curves = Vec::new();
-    for (k, f) in finished.iter().enumerate() {
-        let eulerian = f.variant.tags.iter().any(|(_, v)| v == "eulerian");
-        curves.push(Curve {
-            label: f.variant.label.clone(),
-            points: f.series.iter().skip(1).map(|r| (r.t, r.l2_error)).collect(),
-            style: if eulerian {
-                CurveStyle::Dashed
-            } else {
-                CurveStyle::Line
-            },
-            color: PALETTE[k % PALETTE.len()],
-        });
-    }
-    plot::draw(
-        &out.join("l2_vs_time.png"),
-        format,
-        &Chart {
-            title: "Velocity L2 error against time".into(),
-            x_label: "t".into(),
-            y_label: "L2 error / U".into(),
-            log_y: true,
-            ..Default::default()
-        },
-        &curves,
-    )?;
+    super::draw_l2_histories(finished, out, format)?;
     let mut curves = Vec::new();
     for (k, frame) in frames.iter().enumerate() {
         let pts: Vec<&Row> = rows.iter().filter(|r| &r.frame == frame).collect();

@@ -319,6 +319,46 @@ pub fn fitted_order(points: &[(f64, f64)]) -> Option<f64> {
     (sxx > 0.0).then(|| sxy / sxx)
 }
 
+/// `l2_vs_time.png`: every run's L2 error against time (dashed: the Eulerian frame).
+fn draw_l2_histories(
+    finished: &[Finished],
+    out: &Path,
+    format: crate::app::plot::FigureFormat,
+) -> Result<()> {
+    use crate::app::plot::{self, Chart, Curve, CurveStyle, PALETTE};
+    let curves: Vec<Curve> = finished
+        .iter()
+        .enumerate()
+        .map(|(k, f)| Curve {
+            label: f.variant.label.clone(),
+            points: f
+                .series
+                .iter()
+                .filter(|r| r.t > 0.0 && r.l2_error > 0.0)
+                .map(|r| (r.t, r.l2_error))
+                .collect(),
+            style: if f.variant.tags.iter().any(|(_, v)| v == "eulerian") {
+                CurveStyle::Dashed
+            } else {
+                CurveStyle::Line
+            },
+            color: PALETTE[k % PALETTE.len()],
+        })
+        .collect();
+    plot::draw(
+        &out.join("l2_vs_time.png"),
+        format,
+        &Chart {
+            title: "Velocity L2 error against time".into(),
+            x_label: "t".into(),
+            y_label: "L2 error / U".into(),
+            log_y: true,
+            ..Default::default()
+        },
+        &curves,
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

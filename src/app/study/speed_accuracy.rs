@@ -4,7 +4,7 @@
 //! the same resolution (the largest ratio, `max_output_ratio`; `l2_vs_time.png`), since a
 //! time-mean can hide a start-up that a cheaper scheme gets wrong.
 
-use super::{run_all, Base, Finished, Variant};
+use super::{run_all, Base, Variant};
 use crate::app::io::SeriesRow;
 use crate::app::plot::FigureFormat;
 use crate::app::plot::{self, Chart, Curve, CurveStyle, PALETTE};
@@ -136,7 +136,7 @@ pub fn run(
             p.max_output_ratio.1
         );
     }
-    draw_error_histories(&finished, out, format)?;
+    super::draw_l2_histories(&finished, out, format)?;
     crate::app::io::write_atomic(&out.join("speed_accuracy.csv"), csv.as_bytes())?;
     let mut front: Vec<(f64, f64)> = points
         .iter()
@@ -180,37 +180,6 @@ pub fn run(
         &curves,
     )?;
     Ok(points)
-}
-
-/// `l2_vs_time.png`: every run's L2 error against time.
-fn draw_error_histories(finished: &[Finished], out: &Path, format: FigureFormat) -> Result<()> {
-    let curves: Vec<Curve> = finished
-        .iter()
-        .enumerate()
-        .map(|(k, f)| Curve {
-            label: f.variant.label.clone(),
-            points: f
-                .series
-                .iter()
-                .filter(|r| r.t > 0.0 && r.l2_error > 0.0)
-                .map(|r| (r.t, r.l2_error))
-                .collect(),
-            style: CurveStyle::Line,
-            color: PALETTE[k % PALETTE.len()],
-        })
-        .collect();
-    plot::draw(
-        &out.join("l2_vs_time.png"),
-        format,
-        &Chart {
-            title: "Velocity L2 error against time".into(),
-            x_label: "t".into(),
-            y_label: "L2 error / U".into(),
-            log_y: true,
-            ..Default::default()
-        },
-        &curves,
-    )
 }
 
 #[cfg(test)]
