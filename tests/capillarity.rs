@@ -16,17 +16,22 @@ use std::path::Path;
 /// the ring-built drop).
 #[test]
 fn static_drop_holds_the_laplace_pressure() {
-    let case = shipped(
-        "static-drop.toml",
-        &["scene.resolution=20", "run.end_time=2"],
-    );
+    let (p, speed) = static_drop(&["scene.resolution=20", "run.end_time=2"]);
+    assert!((p - 1.0).abs() < 0.03, "interior pressure {p}, Laplace 1");
+    assert!(speed < 1e-3, "spurious speed {speed} against σ/η = 10");
+}
+
+/// The static drop's interior pressure and late largest speed (`summary.json`, `drop`) with
+/// the overrides `sets`; the run must finish.
+fn static_drop(sets: &[&str]) -> (f64, f64) {
+    let case = shipped("static-drop.toml", sets);
     let (s, dir) = run_quiet(&case, false);
     assert_eq!(s.outcome, Outcome::Finished, "{:?}", s.reason);
     let d = summary_section(dir.path(), "drop");
-    let p = d["interior_pressure"].as_f64().unwrap();
-    assert!((p - 1.0).abs() < 0.03, "interior pressure {p}, Laplace 1");
-    let speed = d["late_max_speed"].as_f64().unwrap();
-    assert!(speed < 1e-3, "spurious speed {speed} against σ/η = 10");
+    (
+        d["interior_pressure"].as_f64().unwrap(),
+        d["late_max_speed"].as_f64().unwrap(),
+    )
 }
 
 /// The same drop cut from the square lattice (`scene.drop.lattice = "square"`, 316
@@ -38,20 +43,12 @@ fn static_drop_holds_the_laplace_pressure() {
 /// still being driven by its staircase (speeds ~1e-2 at t < 1) would not meet.
 #[test]
 fn a_drop_cut_from_the_square_lattice_rounds_itself_and_rests_at_laplace() {
-    let case = shipped(
-        "static-drop.toml",
-        &[
-            "scene.resolution=20",
-            "run.end_time=4",
-            "scene.drop.lattice=\"square\"",
-        ],
-    );
-    let (s, dir) = run_quiet(&case, false);
-    assert_eq!(s.outcome, Outcome::Finished, "{:?}", s.reason);
-    let d = summary_section(dir.path(), "drop");
-    let p = d["interior_pressure"].as_f64().unwrap();
+    let (p, speed) = static_drop(&[
+        "scene.resolution=20",
+        "run.end_time=4",
+        "scene.drop.lattice=\"square\"",
+    ]);
     assert!((p - 1.0).abs() < 0.03, "interior pressure {p}, Laplace 1");
-    let speed = d["late_max_speed"].as_f64().unwrap();
     assert!(speed < 1e-3, "late speed {speed} against σ/η = 10");
 }
 
