@@ -168,7 +168,15 @@ impl FreeSurfaceStage {
 
     /// Step 5: which rows are Dirichlet rows ([`ContactRows`]); `points` are the rows'
     /// positions (fluid, then the ghosts').
-    pub fn choose_rows(&mut self, points: &[Vec2], ghosts: &Ghosts) {
+    ///
+    /// A surface particle leaves its Dirichlet row only if it has an interior (non-surface)
+    /// fluid neighbour, through which its row joins the bulk's, which the surface's Dirichlet
+    /// rows pin. Without that test a splash or a film's tip lying on the wall took rows whose
+    /// only links were their own mirrors (which carry their parents' pressure) and each other:
+    /// a Neumann block with nothing to fix its level, so the PPE was singular (the coarse
+    /// drop impact, W/δr = 20, at t* = 0.6; the Wi = 5/3 jet at 0.240 s: no solver reached
+    /// the tolerance, best relative residual 8·10⁵).
+    pub fn choose_rows(&mut self, list: &NeighbourList, points: &[Vec2], ghosts: &Ghosts) {
         let on_surface = &self.surface.on_surface;
         self.rows.clear();
         self.rows.extend_from_slice(on_surface);
@@ -176,10 +184,16 @@ impl FreeSurfaceStage {
             return;
         }
         let n = on_surface.len();
+        let joins_bulk = |i: usize| {
+            list.range(i).any(|k| {
+                let j = list.index[k] as usize;
+                j < n && !on_surface[j]
+            })
+        };
         for (k, &p) in ghosts.parent.iter().enumerate() {
             let p = p as usize;
             let to_mirror = (points[n + k] - points[p]).norm();
-            if on_surface[p] && to_mirror < self.spacing {
+            if on_surface[p] && to_mirror < self.spacing && joins_bulk(p) {
                 self.rows[p] = false;
             }
         }
@@ -202,28 +216,37 @@ mod tests {
     use super::*;
 
     /// Under `wall` a surface particle nearer the wall than δr/2 (its mirror nearer than δr)
-    /// loses its Dirichlet row; one at 0.6δr, an interior particle and every row under
-    /// `surface` keep theirs.
+    /// with an interior neighbour loses its Dirichlet row; one at 0.6δr, one as near whose
+    /// only fluid neighbour is on the surface (a film's tip: its row would join no pinned
+    /// row), an interior particle and every row under `surface` keep theirs.
     #[test]
     fn contact_line_particles_take_interior_rows_only_under_wall() {
         let rows = |contact| {
             let mut stage =
                 FreeSurfaceStage::new((SurfacePressure::NormalStress, contact), 0.0, 0.1, None);
-            stage.surface.on_surface = vec![true, true, false];
+            stage.surface.on_surface = vec![true, true, false, true];
             let mut ghosts = Ghosts::default();
-            ghosts.parent = vec![0, 1, 2];
+            ghosts.parent = vec![0, 1, 2, 3];
             let points = [
                 Vec2::new(0.0, 0.04),
                 Vec2::new(1.0, 0.06),
                 Vec2::new(2.0, 0.03),
+                Vec2::new(3.0, 0.02),
                 Vec2::new(0.0, -0.04),
                 Vec2::new(1.0, -0.06),
                 Vec2::new(2.0, -0.03),
+                Vec2::new(3.0, -0.02),
             ];
-            stage.choose_rows(&points, &ghosts);
+            // Fluid neighbours only (the mirrors do not decide): 0–2, 1–2, 3–1.
+            let list = NeighbourList {
+                offsets: vec![0, 1, 3, 5, 6],
+                index: vec![2, 2, 3, 0, 1, 1],
+                rij: vec![Vec2::zeros(); 6],
+            };
+            stage.choose_rows(&list, &points, &ghosts);
             stage.rows().to_vec()
         };
-        assert_eq!(rows(ContactRows::Wall), vec![false, true, false]);
-        assert_eq!(rows(ContactRows::Surface), vec![true, true, false]);
+        assert_eq!(rows(ContactRows::Wall), vec![false, true, false, true]);
+        assert_eq!(rows(ContactRows::Surface), vec![true, true, false, true]);
     }
 }

@@ -609,7 +609,7 @@ impl Simulation {
                     buffer,
                 );
                 st.projection.dirichlet_for_unknown(values, &s.pressure);
-                fs.choose_rows(&st.hood.points, hood.2);
+                fs.choose_rows(hood.0, &st.hood.points, hood.2);
                 fs.dirichlet()
             });
             let dirichlet = dirichlet.unwrap_or((&[], &[]));
