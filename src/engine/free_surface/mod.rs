@@ -54,8 +54,10 @@ pub enum ContactRows {
     Surface,
     /// A surface particle nearer a wall than δr/2 (half the distance to its own mirror)
     /// takes an interior row, with the wall's Neumann condition, so that the PPE holds it
-    /// off the wall as it holds interior particles. Not with a contact angle, which acts
-    /// through exactly those particles' Dirichlet values ([`wetting`]).
+    /// off the wall as it holds interior particles; one with no interior neighbour (a
+    /// splash on the wall) keeps its Dirichlet row and its velocity into the wall is
+    /// removed instead. Not with a contact angle, which acts through exactly those
+    /// particles' Dirichlet values ([`wetting`]).
     Wall,
 }
 
@@ -71,6 +73,12 @@ pub struct FreeSurfaceStage {
     /// The PPE's Dirichlet rows: the surface, less a wall's first half-spacing under
     /// [`ContactRows::Wall`].
     rows: Vec<bool>,
+    /// Under [`ContactRows::Wall`], the surface particles in a wall's first half-spacing
+    /// that keep their Dirichlet rows (they join no interior row: a splash on the wall),
+    /// with the wall's normal into the fluid.
+    held: Vec<(usize, Vec2)>,
+    /// How many times a held particle's velocity into its wall was removed.
+    pub wall_holds: u64,
     spacing: f64,
 }
 
@@ -95,6 +103,8 @@ impl FreeSurfaceStage {
             dirichlet: Vec::new(),
             contact_rows,
             rows: Vec::new(),
+            held: Vec::new(),
+            wall_holds: 0,
             spacing,
         }
     }
@@ -109,6 +119,7 @@ impl FreeSurfaceStage {
         self.surface.heap_bytes()
             + crate::engine::vec_bytes(&self.dirichlet)
             + crate::engine::vec_bytes(&self.rows)
+            + crate::engine::vec_bytes(&self.held)
             + self.rule.heap_bytes()
             + self.tension.as_ref().map_or(0, SurfaceTension::heap_bytes)
     }
@@ -171,15 +182,17 @@ impl FreeSurfaceStage {
     ///
     /// A surface particle leaves its Dirichlet row only if it has an interior (non-surface)
     /// fluid neighbour, through which its row joins the bulk's, which the surface's Dirichlet
-    /// rows pin. Without that test a splash or a film's tip lying on the wall took rows whose
-    /// only links were their own mirrors (which carry their parents' pressure) and each other:
-    /// a Neumann block with nothing to fix its level, so the PPE was singular (the coarse
-    /// drop impact, W/δr = 20, at t* = 0.6; the Wi = 5/3 jet at 0.240 s: no solver reached
-    /// the tolerance, best relative residual 8·10⁵).
+    /// rows pin. Without that test a splash lying on the wall took a row whose only links
+    /// were its own mirror (which carries its pressure) and other such particles: a Neumann
+    /// block with nothing to fix its level, so the PPE was singular (the Wi = 5/3 jet with
+    /// the solenoidal gradient at 0.240 s: a lone particle 60δr out on the plate with one
+    /// neighbour; no solver reached the tolerance, best relative residual 8·10⁵). Such a
+    /// particle keeps its Dirichlet row and is held off the wall by [`Self::hold_off_walls`].
     pub fn choose_rows(&mut self, list: &NeighbourList, points: &[Vec2], ghosts: &Ghosts) {
         let on_surface = &self.surface.on_surface;
         self.rows.clear();
         self.rows.extend_from_slice(on_surface);
+        self.held.clear();
         if self.contact_rows == ContactRows::Surface {
             return;
         }
@@ -193,8 +206,30 @@ impl FreeSurfaceStage {
         for (k, &p) in ghosts.parent.iter().enumerate() {
             let p = p as usize;
             let to_mirror = (points[n + k] - points[p]).norm();
-            if on_surface[p] && to_mirror < self.spacing && joins_bulk(p) {
+            if !on_surface[p] || to_mirror >= self.spacing {
+                continue;
+            }
+            if joins_bulk(p) {
                 self.rows[p] = false;
+            } else {
+                let inward = (points[p] - points[n + k]) / to_mirror.max(f64::MIN_POSITIVE);
+                self.held.push((p, inward));
+            }
+        }
+    }
+
+    /// After the projection: a surface particle in a wall's first half-spacing that kept
+    /// its Dirichlet row (see [`Self::choose_rows`]) loses its velocity into the wall, the
+    /// no-penetration condition u·n = 0 that the PPE imposes on every other particle there
+    /// (walls whose normal velocity is zero: fixed or sliding). Nothing else acts on it: its
+    /// pressure is the Dirichlet value and its mirror's drag is bounded, so under gravity a
+    /// lone particle on the plate sank through it (the Wi = 5/3 jet at 0.288 s).
+    pub fn hold_off_walls(&mut self, velocity: &mut [Vec2]) {
+        for &(i, inward) in &self.held {
+            let into = velocity[i].dot(&inward);
+            if into < 0.0 {
+                velocity[i] -= into * inward;
+                self.wall_holds += 1;
             }
         }
     }
@@ -215,38 +250,63 @@ impl FreeSurfaceStage {
 mod tests {
     use super::*;
 
+    /// Four particles over a wall at y = 0 (spacing 0.1): 0 on the surface at 0.4δr with an
+    /// interior neighbour (2), 1 on the surface at 0.6δr, 2 interior, 3 on the surface at
+    /// 0.2δr whose only fluid neighbour (1) is on the surface (a splash on the wall).
+    fn four_over_a_wall(contact: ContactRows) -> FreeSurfaceStage {
+        let mut stage =
+            FreeSurfaceStage::new((SurfacePressure::NormalStress, contact), 0.0, 0.1, None);
+        stage.surface.on_surface = vec![true, true, false, true];
+        let mut ghosts = Ghosts::default();
+        ghosts.parent = vec![0, 1, 2, 3];
+        let points = [
+            Vec2::new(0.0, 0.04),
+            Vec2::new(1.0, 0.06),
+            Vec2::new(2.0, 0.03),
+            Vec2::new(3.0, 0.02),
+            Vec2::new(0.0, -0.04),
+            Vec2::new(1.0, -0.06),
+            Vec2::new(2.0, -0.03),
+            Vec2::new(3.0, -0.02),
+        ];
+        // Fluid neighbours only (the mirrors do not decide): 0–2, 1–2, 3–1.
+        let list = NeighbourList {
+            offsets: vec![0, 1, 3, 5, 6],
+            index: vec![2, 2, 3, 0, 1, 1],
+            rij: vec![Vec2::zeros(); 6],
+        };
+        stage.choose_rows(&list, &points, &ghosts);
+        stage
+    }
+
     /// Under `wall` a surface particle nearer the wall than δr/2 (its mirror nearer than δr)
     /// with an interior neighbour loses its Dirichlet row; one at 0.6δr, one as near whose
-    /// only fluid neighbour is on the surface (a film's tip: its row would join no pinned
-    /// row), an interior particle and every row under `surface` keep theirs.
+    /// only fluid neighbour is on the surface (its row would join no pinned row), an interior
+    /// particle and every row under `surface` keep theirs.
     #[test]
     fn contact_line_particles_take_interior_rows_only_under_wall() {
-        let rows = |contact| {
-            let mut stage =
-                FreeSurfaceStage::new((SurfacePressure::NormalStress, contact), 0.0, 0.1, None);
-            stage.surface.on_surface = vec![true, true, false, true];
-            let mut ghosts = Ghosts::default();
-            ghosts.parent = vec![0, 1, 2, 3];
-            let points = [
-                Vec2::new(0.0, 0.04),
-                Vec2::new(1.0, 0.06),
-                Vec2::new(2.0, 0.03),
-                Vec2::new(3.0, 0.02),
-                Vec2::new(0.0, -0.04),
-                Vec2::new(1.0, -0.06),
-                Vec2::new(2.0, -0.03),
-                Vec2::new(3.0, -0.02),
-            ];
-            // Fluid neighbours only (the mirrors do not decide): 0–2, 1–2, 3–1.
-            let list = NeighbourList {
-                offsets: vec![0, 1, 3, 5, 6],
-                index: vec![2, 2, 3, 0, 1, 1],
-                rij: vec![Vec2::zeros(); 6],
-            };
-            stage.choose_rows(&list, &points, &ghosts);
-            stage.rows().to_vec()
-        };
+        let rows = |contact| four_over_a_wall(contact).rows().to_vec();
         assert_eq!(rows(ContactRows::Wall), vec![false, true, false, true]);
         assert_eq!(rows(ContactRows::Surface), vec![true, true, false, true]);
+    }
+
+    /// The splash on the wall (3) loses its velocity into the wall and keeps the rest; a
+    /// velocity away from the wall and every other particle are untouched, and under
+    /// `surface` nothing is held.
+    #[test]
+    fn a_splash_on_the_wall_is_held_off_it_only_under_wall() {
+        let into = vec![Vec2::new(0.3, -0.2); 4];
+        let mut stage = four_over_a_wall(ContactRows::Wall);
+        let mut v = into.clone();
+        stage.hold_off_walls(&mut v);
+        assert_eq!(&v[..3], &into[..3]);
+        assert_eq!(v[3], Vec2::new(0.3, 0.0));
+        assert_eq!(stage.wall_holds, 1);
+        let mut away = vec![Vec2::new(0.3, 0.2); 4];
+        stage.hold_off_walls(&mut away);
+        assert_eq!(away, vec![Vec2::new(0.3, 0.2); 4]);
+        let mut v = into.clone();
+        four_over_a_wall(ContactRows::Surface).hold_off_walls(&mut v);
+        assert_eq!(v, into);
     }
 }

@@ -692,6 +692,9 @@ impl Simulation {
                 dt_over_rho,
                 &mut st.velocity_star,
             );
+            if let Some(fs) = st.free_surface.as_mut() {
+                fs.hold_off_walls(&mut st.velocity_star);
+            }
             if let Some(inflow) = inflow.as_ref() {
                 inflow.prescribe(&mut st.velocity_star, inflow.velocity);
             }
@@ -803,6 +806,15 @@ impl Simulation {
             .as_ref()
             .map(|fs| &fs.surface)
             .filter(|s| s.on_surface.len() == self.particles())
+    }
+
+    /// How many times a surface particle was held off a wall
+    /// ([`FreeSurfaceStage::hold_off_walls`]).
+    pub fn surface_wall_holds(&self) -> u64 {
+        self.stages
+            .free_surface
+            .as_ref()
+            .map_or(0, |fs| fs.wall_holds)
     }
 
     /// The vorticity ω = ∂v/∂x − ∂u/∂y of the velocity at the start of the last step (the

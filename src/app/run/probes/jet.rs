@@ -39,6 +39,9 @@ pub struct JetSummary {
     /// Folding frequency after onset (Hz), from sign changes of x_b.
     pub frequency: Option<f64>,
     pub max_band_x: f64,
+    /// How many times a surface particle on the plate with no interior neighbour had its
+    /// velocity into the plate removed (`scheme.contact_line_rows = "wall"`).
+    pub wall_holds: u64,
 }
 
 /// The jet probe of a run.
@@ -94,7 +97,7 @@ impl JetProbe {
         out
     }
 
-    pub fn summary(&self, spacing: f64) -> JetSummary {
+    pub fn summary(&self, spacing: f64, wall_holds: u64) -> JetSummary {
         let t_impact = self
             .rows
             .iter()
@@ -129,6 +132,7 @@ impl JetProbe {
                 .map(|r| r.band_x.abs())
                 .filter(|v| v.is_finite())
                 .fold(0.0, f64::max),
+            wall_holds,
         }
     }
 
@@ -189,6 +193,8 @@ impl Probe for JetProbe {
         if let Some(format) = charts {
             self.charts(dir, format)?;
         }
-        Ok(Some(serde_json::to_value(self.summary(sim.spacing))?))
+        Ok(Some(serde_json::to_value(
+            self.summary(sim.spacing, sim.surface_wall_holds()),
+        )?))
     }
 }
