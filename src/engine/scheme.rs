@@ -62,6 +62,8 @@ pub struct Scheme {
     pub surface_repulsion: bool,
     /// How a surface tension acts: in the free-surface pressure or as a cohesion force.
     pub surface_tension: SurfaceTensionForm,
+    /// Where in the step the capillary pressure's curvature is taken.
+    pub capillary_time_level: crate::engine::free_surface::CapillaryTimeLevel,
 }
 
 impl Scheme {

@@ -5,7 +5,9 @@
 
 use crate::engine::boundary::{TensorMirror, WallModel, WallPressure};
 use crate::engine::frame::Frame;
-use crate::engine::free_surface::{ContactRows, SurfacePressure, SurfaceTensionForm};
+use crate::engine::free_surface::{
+    CapillaryTimeLevel, ContactRows, SurfacePressure, SurfaceTensionForm,
+};
 use crate::engine::operators::{GradientOrder, LaplacianOrder};
 use crate::engine::rheology::{ConformationScheme, Remap};
 use crate::engine::scheme::PpeSolver;
@@ -305,6 +307,10 @@ pub struct SchemeSpec {
     /// `normal-stress` (the capillary jump σκ in the free-surface pressure) or `cohesion`
     /// (the pairwise force of Wróblewski et al. 2008).
     pub surface_tension: SurfaceTensionForm,
+    /// `predicted` (r* of (23), damping a mode of frequency ω at ω²δt/4) or `midpoint`
+    /// (rⁿ + (δt/2)uⁿ, no damping of a capillary mode from the step): where the capillary
+    /// pressure's curvature is taken; see `engine::free_surface::tension`.
+    pub capillary_time_level: CapillaryTimeLevel,
 }
 
 impl Default for SchemeSpec {
@@ -354,6 +360,7 @@ impl Default for SchemeSpec {
             contact_line_rows: ContactRows::Surface,
             surface_repulsion: true,
             surface_tension: SurfaceTensionForm::NormalStress,
+            capillary_time_level: CapillaryTimeLevel::Predicted,
         }
     }
 }

@@ -401,6 +401,7 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
         contact_line_rows: s.contact_line_rows,
         surface_repulsion: s.surface_repulsion,
         surface_tension: s.surface_tension,
+        capillary_time_level: s.capillary_time_level,
     })
 }
 

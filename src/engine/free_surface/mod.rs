@@ -14,7 +14,7 @@ pub mod wetting;
 pub use cohesion::Cohesion;
 pub use detection::{FreeSurface, NEAR_SURFACE_STRENGTH};
 pub use pressure::{SurfaceInputs, SurfacePressure, SurfacePressureRule};
-pub use tension::SurfaceTension;
+pub use tension::{CapillaryTimeLevel, SurfaceTension};
 pub use wetting::Wetting;
 
 use crate::engine::boundary::Ghosts;
@@ -83,16 +83,17 @@ pub struct FreeSurfaceStage {
 }
 
 impl FreeSurfaceStage {
-    /// The stage for a rule and, if σ > 0, a surface tension σ on particles of spacing δr,
-    /// meeting the walls at the contact angle of `wetting` if there is one.
+    /// The stage for a rule and, if σ > 0, a surface tension σ (its curvature taken at
+    /// `level`) on particles of spacing δr, meeting the walls at the contact angle of
+    /// `wetting` if there is one.
     pub fn new(
         (rule, contact_rows): (SurfacePressure, ContactRows),
-        surface_tension: f64,
+        (surface_tension, level): (f64, CapillaryTimeLevel),
         spacing: f64,
         wetting: Option<Wetting>,
     ) -> Self {
         let tension = (surface_tension > 0.0).then(|| {
-            let mut t = SurfaceTension::new(surface_tension, spacing);
+            let mut t = SurfaceTension::new(surface_tension, spacing, level);
             t.wetting = wetting;
             t
         });
@@ -145,12 +146,13 @@ impl FreeSurfaceStage {
     /// fluid's viscosity factor φ = η(γ̇)/η0 (empty: uniform) and A^{n+½}, plus the
     /// capillary jump σκ where the rule's value is trusted (not an inflow row, not a sparse
     /// splash: [`pressure::MIN_SURFACE_NEIGHBOURS`]). `points` are the positions of the
-    /// rows (fluid first).
+    /// rows (fluid first); `motion` the velocities uⁿ and how far in time the positions lie
+    /// ahead of rⁿ, for the curvature's time level ([`CapillaryTimeLevel`]).
     pub fn dirichlet_pressure(
         &mut self,
         (list, sums, points): (&NeighbourList, &KernelSums, &[Vec2]),
         (fluid, viscosity_factor): (&Fluid, &[f64]),
-        velocity_star: &[Vec2],
+        (velocity_star, motion): (&[Vec2], (&[Vec2], f64)),
         conformation: &[Sym2],
         prescribed: &[bool],
     ) -> &mut [f64] {
@@ -172,7 +174,8 @@ impl FreeSurfaceStage {
                 !prescribed.get(i).copied().unwrap_or(false)
                     && list.range(i).len() >= pressure::MIN_SURFACE_NEIGHBOURS
             };
-            tension.add_jump((list, points), &self.surface, trusted, &mut self.dirichlet);
+            let at = (list, points);
+            tension.add_jump(at, motion, &self.surface, trusted, &mut self.dirichlet);
         }
         &mut self.dirichlet
     }
@@ -254,8 +257,12 @@ mod tests {
     /// interior neighbour (2), 1 on the surface at 0.6δr, 2 interior, 3 on the surface at
     /// 0.2δr whose only fluid neighbour (1) is on the surface (a splash on the wall).
     fn four_over_a_wall(contact: ContactRows) -> FreeSurfaceStage {
-        let mut stage =
-            FreeSurfaceStage::new((SurfacePressure::NormalStress, contact), 0.0, 0.1, None);
+        let mut stage = FreeSurfaceStage::new(
+            (SurfacePressure::NormalStress, contact),
+            (0.0, CapillaryTimeLevel::Predicted),
+            0.1,
+            None,
+        );
         stage.surface.on_surface = vec![true, true, false, true];
         let mut ghosts = Ghosts::default();
         ghosts.parent = vec![0, 1, 2, 3];

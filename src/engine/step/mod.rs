@@ -186,7 +186,10 @@ impl Simulation {
             free_surface: setup.free_surface.then(|| {
                 FreeSurfaceStage::new(
                     (scheme.free_surface_pressure, scheme.contact_line_rows),
-                    if cohesive { 0.0 } else { fluid.surface_tension },
+                    (
+                        if cohesive { 0.0 } else { fluid.surface_tension },
+                        scheme.capillary_time_level,
+                    ),
                     setup.spacing,
                     wetting,
                 )
@@ -596,6 +599,11 @@ impl Simulation {
     fn pressure_poisson(&mut self, dt: f64) -> Result<rheosph_solver::SolveReport, Breakdown> {
         let (st, s, fluid) = (&mut self.stages, &mut self.state, &self.fluid);
         let buffer = buffer_flags(&self.inflow);
+        let ahead = if self.scheme.frame.moves_particles() {
+            dt
+        } else {
+            0.0
+        };
         self.timers.time(Stage::PpeAssembly, || {
             let hood = st.hood.parts();
             st.pressure.divergence(hood, &st.velocity_star);
@@ -604,7 +612,7 @@ impl Simulation {
                 let values = fs.dirichlet_pressure(
                     (hood.0, hood.1, &st.hood.points),
                     (fluid, factor),
-                    st.pressure.velocity_star_ext(),
+                    (st.pressure.velocity_star_ext(), (&s.velocity, ahead)),
                     &s.conformation,
                     buffer,
                 );
