@@ -29,9 +29,10 @@ pub struct PredictorTerms<'a> {
     /// The weakly compressible scheme's pressure, polymer-stress, artificial viscosity and
     /// stress accelerations (see [`crate::engine::weakly_compressible`]).
     pub weak: Option<&'a [Vec2]>,
-    /// The cohesion force's acceleration (surface tension as a pair force, see
-    /// [`crate::engine::free_surface::cohesion`]).
-    pub cohesion: Option<&'a [Vec2]>,
+    /// A free surface's own accelerations: the cohesion force (surface tension as a pair
+    /// force, [`crate::engine::free_surface::cohesion`]) or the shear-free flux of the
+    /// viscous term ([`crate::engine::free_surface::shear_free`]).
+    pub surface_force: Option<&'a [Vec2]>,
     /// 1/ρ.
     pub inv_rho: f64,
 }
@@ -46,7 +47,7 @@ pub fn predict(terms: &PredictorTerms, velocity: &[Vec2], dt: f64, out: &mut Vec
         body_force,
         old_pressure_gradient,
         weak,
-        cohesion,
+        surface_force,
         inv_rho,
     } = *terms;
     out.resize(velocity.len(), Vec2::zeros());
@@ -68,8 +69,8 @@ pub fn predict(terms: &PredictorTerms, velocity: &[Vec2], dt: f64, out: &mut Vec
             if let Some(weak) = weak {
                 a += weak[i];
             }
-            if let Some(cohesion) = cohesion {
-                a += cohesion[i];
+            if let Some(surface) = surface_force {
+                a += surface[i];
             }
             *us = u + dt * a;
         });

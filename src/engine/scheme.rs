@@ -64,9 +64,21 @@ pub struct Scheme {
     pub surface_tension: SurfaceTensionForm,
     /// Where in the step the capillary pressure's curvature is taken.
     pub capillary_time_level: crate::engine::free_surface::CapillaryTimeLevel,
+    /// The viscous term's tangential flux through a free surface.
+    pub surface_shear: crate::engine::free_surface::SurfaceShear,
 }
 
 impl Scheme {
+    /// The free-surface choices, for [`crate::engine::free_surface::FreeSurfaceStage`].
+    pub fn surface_options(&self) -> crate::engine::free_surface::SurfaceOptions {
+        crate::engine::free_surface::SurfaceOptions {
+            pressure: self.free_surface_pressure,
+            contact_rows: self.contact_line_rows,
+            time_level: self.capillary_time_level,
+            shear: self.surface_shear,
+        }
+    }
+
     /// ν of the viscous term of the predictor: (β + α_V)η0/ρ (η0/ρ for a Newtonian fluid),
     /// the ν the implicit solve uses.
     pub fn viscosity_nu(&self, fluid: &crate::engine::rheology::Fluid) -> f64 {

@@ -6,7 +6,7 @@
 use crate::engine::boundary::{TensorMirror, WallModel, WallPressure};
 use crate::engine::frame::Frame;
 use crate::engine::free_surface::{
-    CapillaryTimeLevel, ContactRows, SurfacePressure, SurfaceTensionForm,
+    CapillaryTimeLevel, ContactRows, SurfacePressure, SurfaceShear, SurfaceTensionForm,
 };
 use crate::engine::operators::{GradientOrder, LaplacianOrder};
 use crate::engine::rheology::{ConformationScheme, Remap};
@@ -311,6 +311,10 @@ pub struct SchemeSpec {
     /// (rⁿ + (δt/2)uⁿ, no damping of a capillary mode from the step): where the capillary
     /// pressure's curvature is taken; see `engine::free_surface::tension`.
     pub capillary_time_level: CapillaryTimeLevel,
+    /// `truncated` (the Laplacian of (21) as it is on a surface particle's truncated support,
+    /// the paper's) or `shear-free` (plus the tangential flux of the shear-free condition,
+    /// ∂u_t/∂n = −∂u_n/∂t); see `engine::free_surface::shear_free`.
+    pub surface_shear: SurfaceShear,
 }
 
 impl Default for SchemeSpec {
@@ -361,6 +365,7 @@ impl Default for SchemeSpec {
             surface_repulsion: true,
             surface_tension: SurfaceTensionForm::NormalStress,
             capillary_time_level: CapillaryTimeLevel::Predicted,
+            surface_shear: SurfaceShear::Truncated,
         }
     }
 }

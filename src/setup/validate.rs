@@ -2,7 +2,7 @@
 //! engine's types (the scene validates itself, see [`crate::setup::scenes`]).
 
 use crate::engine::frame::Frame;
-use crate::engine::free_surface::{ContactRows, SurfaceTensionForm};
+use crate::engine::free_surface::{ContactRows, SurfaceShear, SurfaceTensionForm};
 use crate::engine::projection::Projection;
 use crate::engine::rheology::models::Parameter;
 use crate::engine::rheology::{Fluid, LawEntry, Model, Solvent, ViscosityLaw, LAWS, MODELS};
@@ -114,6 +114,14 @@ pub fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
         return Err(field_err(
             "scheme.surface_tension",
             "the cohesion force needs the weakly compressible scheme (scheme.method = \"wcsph\"): with the projection the drop's surface rows do not hold its cohesive pressure",
+        ));
+    }
+    if scheme.surface_shear == SurfaceShear::ShearFree
+        && !(scene.has_free_surface() && scheme.method == Method::Projection)
+    {
+        return Err(field_err(
+            "scheme.surface_shear",
+            "`shear-free` completes the viscous term of the projection's free-surface rows: it needs a free surface and scheme.method = \"isph\"",
         ));
     }
     let run = run(&raw.run, scene.as_ref(), fluid.relaxation_time)?;
@@ -402,6 +410,7 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
         surface_repulsion: s.surface_repulsion,
         surface_tension: s.surface_tension,
         capillary_time_level: s.capillary_time_level,
+        surface_shear: s.surface_shear,
     })
 }
 

@@ -8,12 +8,14 @@
 pub mod cohesion;
 pub mod detection;
 pub mod pressure;
+pub mod shear_free;
 pub mod tension;
 pub mod wetting;
 
 pub use cohesion::Cohesion;
 pub use detection::{FreeSurface, NEAR_SURFACE_STRENGTH};
 pub use pressure::{SurfaceInputs, SurfacePressure, SurfacePressureRule};
+pub use shear_free::{ShearFreeSurface, SurfaceShear};
 pub use tension::{CapillaryTimeLevel, SurfaceTension};
 pub use wetting::Wetting;
 
@@ -61,6 +63,19 @@ pub enum ContactRows {
     Wall,
 }
 
+/// The scheme's free-surface choices, taken once at setup.
+#[derive(Clone, Copy, Debug)]
+pub struct SurfaceOptions {
+    /// The Dirichlet pressure's rule.
+    pub pressure: SurfacePressure,
+    /// The PPE row of a surface particle at a wall.
+    pub contact_rows: ContactRows,
+    /// Where in the step the capillary curvature is taken.
+    pub time_level: CapillaryTimeLevel,
+    /// The viscous term's tangential flux through the surface.
+    pub shear: SurfaceShear,
+}
+
 /// The free-surface stage: the surface of the current step and its pressure rule.
 pub struct FreeSurfaceStage {
     /// FS and NS sets and normals of the last step.
@@ -80,20 +95,22 @@ pub struct FreeSurfaceStage {
     /// How many times a held particle's velocity into its wall was removed.
     pub wall_holds: u64,
     spacing: f64,
+    /// The shear-free flux of the viscous term ([`SurfaceShear::ShearFree`]).
+    shear_free: Option<ShearFreeSurface>,
 }
 
 impl FreeSurfaceStage {
-    /// The stage for a rule and, if σ > 0, a surface tension σ (its curvature taken at
-    /// `level`) on particles of spacing δr, meeting the walls at the contact angle of
-    /// `wetting` if there is one.
+    /// The stage for the scheme's `options` and, if σ > 0, a surface tension σ on particles
+    /// of spacing δr, meeting the walls at the contact angle of `wetting` if there is one.
     pub fn new(
-        (rule, contact_rows): (SurfacePressure, ContactRows),
-        (surface_tension, level): (f64, CapillaryTimeLevel),
+        options: SurfaceOptions,
+        surface_tension: f64,
         spacing: f64,
         wetting: Option<Wetting>,
     ) -> Self {
+        let (rule, contact_rows) = (options.pressure, options.contact_rows);
         let tension = (surface_tension > 0.0).then(|| {
-            let mut t = SurfaceTension::new(surface_tension, spacing, level);
+            let mut t = SurfaceTension::new(surface_tension, spacing, options.time_level);
             t.wetting = wetting;
             t
         });
@@ -107,6 +124,7 @@ impl FreeSurfaceStage {
             held: Vec::new(),
             wall_holds: 0,
             spacing,
+            shear_free: (options.shear == SurfaceShear::ShearFree).then(ShearFreeSurface::default),
         }
     }
 
@@ -123,6 +141,24 @@ impl FreeSurfaceStage {
             + crate::engine::vec_bytes(&self.held)
             + self.rule.heap_bytes()
             + self.tension.as_ref().map_or(0, SurfaceTension::heap_bytes)
+            + self
+                .shear_free
+                .as_ref()
+                .map_or(0, ShearFreeSurface::heap_bytes)
+    }
+
+    /// Step 4: the shear-free flux's accelerations ([`shear_free`]) from ∇u, ν and the
+    /// viscosity factor (empty: uniform); None unless the scheme asks for it.
+    pub fn shear_free_accelerations(
+        &mut self,
+        hood: (&NeighbourList, &KernelSums),
+        grad_u: &[crate::engine::math::Mat2],
+        viscosity: (f64, &[f64]),
+    ) -> Option<&[Vec2]> {
+        let surface = &self.surface;
+        self.shear_free
+            .as_mut()
+            .map(|s| s.accelerations(hood, surface, grad_u, viscosity))
     }
 
     /// Step 2: detection (36)–(37) and normals (38)–(39). Rows in `prescribed` (an inflow
@@ -257,12 +293,13 @@ mod tests {
     /// interior neighbour (2), 1 on the surface at 0.6δr, 2 interior, 3 on the surface at
     /// 0.2δr whose only fluid neighbour (1) is on the surface (a splash on the wall).
     fn four_over_a_wall(contact: ContactRows) -> FreeSurfaceStage {
-        let mut stage = FreeSurfaceStage::new(
-            (SurfacePressure::NormalStress, contact),
-            (0.0, CapillaryTimeLevel::Predicted),
-            0.1,
-            None,
-        );
+        let options = SurfaceOptions {
+            pressure: SurfacePressure::NormalStress,
+            contact_rows: contact,
+            time_level: CapillaryTimeLevel::Predicted,
+            shear: SurfaceShear::Truncated,
+        };
+        let mut stage = FreeSurfaceStage::new(options, 0.0, 0.1, None);
         stage.surface.on_surface = vec![true, true, false, true];
         let mut ghosts = Ghosts::default();
         ghosts.parent = vec![0, 1, 2, 3];

@@ -184,15 +184,8 @@ impl Simulation {
                 scheme.surface_repulsion,
             )),
             free_surface: setup.free_surface.then(|| {
-                FreeSurfaceStage::new(
-                    (scheme.free_surface_pressure, scheme.contact_line_rows),
-                    (
-                        if cohesive { 0.0 } else { fluid.surface_tension },
-                        scheme.capillary_time_level,
-                    ),
-                    setup.spacing,
-                    wetting,
-                )
+                let sigma = if cohesive { 0.0 } else { fluid.surface_tension };
+                FreeSurfaceStage::new(scheme.surface_options(), sigma, setup.spacing, wetting)
             }),
             conformation: viscoelastic.then(|| {
                 ConformationStage::new(
@@ -536,11 +529,15 @@ impl Simulation {
         let kernel = &self.kernel;
         let (domain, n) = (&self.domain, s.position.len());
         self.timers.time(Stage::Predictor, || {
-            let cohesion = st
-                .cohesion
-                .as_mut()
-                .map(|c| c.accelerations(domain, &st.hood.points[..n]));
             let hood = st.hood.parts();
+            let grad_u = &st.kinematics.grad_u;
+            let surface_force = match (st.cohesion.as_mut(), st.free_surface.as_mut()) {
+                (Some(c), _) => Some(c.accelerations(domain, &st.hood.points[..n])),
+                (None, Some(fs)) => {
+                    fs.shear_free_accelerations((hood.0, hood.1), grad_u, (st.nu, factor))
+                }
+                (None, None) => None,
+            };
             let weak = st.weak.as_mut().map(|w| {
                 let inputs = MomentumInputs {
                     hood,
@@ -566,7 +563,7 @@ impl Simulation {
                     .filter(|_| weak.is_none())
                     .map(|c| c.stress_divergence()),
                 weak,
-                cohesion,
+                surface_force,
                 body_force,
                 old_pressure_gradient: st.projection.old_pressure_gradient(hood, &s.pressure),
                 inv_rho,
