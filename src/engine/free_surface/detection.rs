@@ -237,7 +237,7 @@ impl FreeSurface {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::engine::neighbours::{Domain, NeighbourSearch};
+    use crate::engine::neighbours::Domain;
 
     fn detect(points: &[Vec2], dr: f64) -> FreeSurface {
         let domain = Domain {
@@ -245,14 +245,7 @@ mod tests {
             max: Vec2::new(1.0, 1.0),
             periodic: [false, false],
         };
-        let kernel = QuinticSpline::for_spacing(dr);
-        let mut list = NeighbourList::default();
-        NeighbourSearch::new().build(&domain, points, points.len(), kernel.support(), &mut list);
-        let mut sums = KernelSums::default();
-        sums.update(&list, &kernel, dr * dr);
-        let mut fs = FreeSurface::default();
-        fs.detect(&list, &sums, &kernel);
-        fs
+        crate::engine::free_surface::surface_of(&domain, points, dr).2
     }
 
     /// A square block of 30 × 30 particles at rest: FS is exactly its outer ring (the 116

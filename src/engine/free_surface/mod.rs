@@ -12,6 +12,29 @@ pub mod shear_free;
 pub mod tension;
 pub mod wetting;
 
+/// A particle set's neighbour list, kernel sums and free surface, for the unit tests.
+#[cfg(test)]
+pub(crate) fn surface_of(
+    domain: &crate::engine::neighbours::Domain,
+    points: &[Vec2],
+    dr: f64,
+) -> (NeighbourList, KernelSums, FreeSurface) {
+    let kernel = QuinticSpline::for_spacing(dr);
+    let mut list = NeighbourList::default();
+    crate::engine::neighbours::NeighbourSearch::new().build(
+        domain,
+        points,
+        points.len(),
+        kernel.support(),
+        &mut list,
+    );
+    let mut sums = KernelSums::default();
+    sums.update(&list, &kernel, dr * dr);
+    let mut fs = FreeSurface::default();
+    fs.detect(&list, &sums, &kernel);
+    (list, sums, fs)
+}
+
 pub use cohesion::Cohesion;
 pub use detection::{FreeSurface, NEAR_SURFACE_STRENGTH};
 pub use pressure::{SurfaceInputs, SurfacePressure, SurfacePressureRule};

@@ -101,8 +101,7 @@ fn tangential_flux(i: usize, (list, sums): (&NeighbourList, &KernelSums), g: &Ma
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::engine::kernel::QuinticSpline;
-    use crate::engine::neighbours::{Domain, NeighbourSearch};
+    use crate::engine::neighbours::Domain;
 
     /// A slab of particles with its free surface at the top (y = H), in the flow
     /// u = (a y, b x): ∂u_t/∂n = a and ∂u_n/∂t = b. The FS particles get the flux −b along x
@@ -122,14 +121,8 @@ mod tests {
             max: Vec2::new(4.0, 3.0),
             periodic: [true, false],
         };
-        let kernel = QuinticSpline::for_spacing(dr);
-        let mut list = NeighbourList::default();
+        let (list, sums, fs) = crate::engine::free_surface::surface_of(&domain, &points, dr);
         let n = points.len();
-        NeighbourSearch::new().build(&domain, &points, n, kernel.support(), &mut list);
-        let mut sums = KernelSums::default();
-        sums.update(&list, &kernel, dr * dr);
-        let mut fs = FreeSurface::default();
-        fs.detect(&list, &sums, &kernel);
         let top = |i: usize| points[i].y > 0.9;
         let flux = |a: f64, b: f64| {
             let g = vec![Mat2::new(0.0, a, b, 0.0); n];

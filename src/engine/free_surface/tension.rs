@@ -328,8 +328,7 @@ impl<'a> ParabolaFit<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::engine::neighbours::{Domain, NeighbourSearch};
-    use crate::engine::operators::KernelSums;
+    use crate::engine::neighbours::Domain;
 
     /// The FS particles of a drop built as concentric rings have κ = 1/R within 2 % at
     /// R/δr = 10, 20, 40, and the mean error falls at second order (the parabola's error on a
@@ -347,20 +346,8 @@ mod tests {
                 max: Vec2::new(4.0, 4.0),
                 periodic: [false, false],
             };
-            let kernel = QuinticSpline::for_spacing(dr);
-            let mut list = NeighbourList::default();
-            NeighbourSearch::new().build(
-                &domain,
-                &points,
-                points.len(),
-                kernel.support(),
-                &mut list,
-            );
-            let mut sums = KernelSums::default();
-            sums.update(&list, &kernel, dr * dr);
-            let mut fs = FreeSurface::default();
-            fs.detect(&list, &sums, &kernel);
-            let mut tension = SurfaceTension::new(1.0, dr, CapillaryTimeLevel::Midpoint);
+            let (list, _, fs) = crate::engine::free_surface::surface_of(&domain, &points, dr);
+            let mut tension = SurfaceTension::new(1.0, dr, CapillaryTimeLevel::Predicted);
             tension.update_curvature(&list, &fs);
             let fs_rows: Vec<usize> = (0..points.len()).filter(|&i| fs.on_surface[i]).collect();
             let error = |i: &usize| tension.curvature[*i] * radius - 1.0;
@@ -390,14 +377,8 @@ mod tests {
             max: Vec2::new(4.0, 4.0),
             periodic: [false, false],
         };
-        let kernel = QuinticSpline::for_spacing(dr);
-        let mut list = NeighbourList::default();
+        let (list, _, fs) = crate::engine::free_surface::surface_of(&domain, &points, dr);
         let n = points.len();
-        NeighbourSearch::new().build(&domain, &points, n, kernel.support(), &mut list);
-        let mut sums = KernelSums::default();
-        sums.update(&list, &kernel, dr * dr);
-        let mut fs = FreeSurface::default();
-        fs.detect(&list, &sums, &kernel);
         let (a, dt) = (2.0, 0.1);
         let expanding: Vec<Vec2> = points.iter().map(|r| a * (r - centre)).collect();
         let translating = vec![Vec2::new(3.0, -1.0); n];
