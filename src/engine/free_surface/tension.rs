@@ -330,6 +330,18 @@ mod tests {
     use super::*;
     use crate::engine::neighbours::Domain;
 
+    /// A disc of particles (concentric rings) in a 4 × 4 box, its neighbour list and surface.
+    fn disc_surface(centre: Vec2, radius: f64, dr: f64) -> (Vec<Vec2>, NeighbourList, FreeSurface) {
+        let points = crate::engine::lattice::disc(centre, radius, dr);
+        let domain = Domain {
+            min: Vec2::zeros(),
+            max: Vec2::new(4.0, 4.0),
+            periodic: [false, false],
+        };
+        let (list, _, fs) = crate::engine::free_surface::surface_of(&domain, &points, dr);
+        (points, list, fs)
+    }
+
     /// The FS particles of a drop built as concentric rings have κ = 1/R within 2 % at
     /// R/δr = 10, 20, 40, and the mean error falls at second order (the parabola's error on a
     /// circle).
@@ -339,14 +351,7 @@ mod tests {
         for per_radius in [10usize, 20, 40] {
             let radius = 1.0;
             let dr = radius / per_radius as f64;
-            let centre = Vec2::new(2.0, 2.0);
-            let points = crate::engine::lattice::disc(centre, radius, dr);
-            let domain = Domain {
-                min: Vec2::zeros(),
-                max: Vec2::new(4.0, 4.0),
-                periodic: [false, false],
-            };
-            let (list, _, fs) = crate::engine::free_surface::surface_of(&domain, &points, dr);
+            let (points, list, fs) = disc_surface(Vec2::new(2.0, 2.0), radius, dr);
             let mut tension = SurfaceTension::new(1.0, dr, CapillaryTimeLevel::Predicted);
             tension.update_curvature(&list, &fs);
             let fs_rows: Vec<usize> = (0..points.len()).filter(|&i| fs.on_surface[i]).collect();
@@ -371,13 +376,7 @@ mod tests {
     #[test]
     fn the_midpoint_curvature_is_that_of_the_surface_half_a_step_back() {
         let (radius, dr, centre) = (1.0, 0.05, Vec2::new(2.0, 2.0));
-        let points = crate::engine::lattice::disc(centre, radius, dr);
-        let domain = Domain {
-            min: Vec2::zeros(),
-            max: Vec2::new(4.0, 4.0),
-            periodic: [false, false],
-        };
-        let (list, _, fs) = crate::engine::free_surface::surface_of(&domain, &points, dr);
+        let (points, list, fs) = disc_surface(centre, radius, dr);
         let n = points.len();
         let (a, dt) = (2.0, 0.1);
         let expanding: Vec<Vec2> = points.iter().map(|r| a * (r - centre)).collect();
