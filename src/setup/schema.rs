@@ -299,7 +299,9 @@ pub struct SchemeSpec {
     pub free_surface_pressure: SurfacePressure,
     /// Free surfaces: `surface` (every surface particle a Dirichlet row, the paper's) or
     /// `wall` (a surface particle within δr/2 of a wall an interior row, held off the wall
-    /// by the PPE; not with `scene.contact_angle`); see `engine::free_surface::ContactRows`.
+    /// by the PPE; not with `scene.contact_angle`) or `held` (every surface particle a
+    /// Dirichlet row, those within δr/4 of a wall held off it); see
+    /// `engine::free_surface::ContactRows`.
     pub contact_line_rows: ContactRows,
     /// Free surfaces: the repulsive term of (42)–(44) in the shifting of internal particles
     /// (King & Lind: helpful for Re < 5).

@@ -104,7 +104,7 @@ pub fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
     if scene.contact_angle().is_some() && scheme.contact_line_rows == ContactRows::Wall {
         return Err(field_err(
             "scheme.contact_line_rows",
-            "`wall` takes the contact-line particles off the surface's Dirichlet rows, through which a contact angle acts: use `surface` with scene.contact_angle",
+            "`wall` takes the contact-line particles off the surface's Dirichlet rows, through which a contact angle acts: use `surface` or `held` with scene.contact_angle",
         ));
     }
     if scheme.surface_tension == SurfaceTensionForm::Cohesion && scheme.method == Method::Projection
