@@ -106,6 +106,7 @@ fn wcsph_keys_are_validated() {
         bad(&["scheme.sound_speed_stress_factor=-1"]).contains("scheme.sound_speed_stress_factor")
     );
     assert!(bad(&["scheme.wall_model=\"fixed\""]).contains("wall_model"));
+    assert!(bad(&["scheme.contact_line_rows=\"wall\""]).contains("scheme.contact_line_rows"));
     // 0 restores the stability rules (a case file's fixed step undone by --set).
     let o = vec!["scheme.time_step=0".to_string()];
     let case = case::parse(common::POISEUILLE, "poiseuille.toml", "p", &o).unwrap();

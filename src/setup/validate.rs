@@ -467,6 +467,12 @@ fn method(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Method, Fi
     if s.projection == ProjectionChoice::Incremental {
         return refuse("scheme.projection", "there is no projection");
     }
+    if s.contact_line_rows == ContactRows::Wall {
+        return refuse(
+            "scheme.contact_line_rows",
+            "there are no PPE rows to give the contact lines (`held` holds them off the wall)",
+        );
+    }
     let mach = positive("scheme.mach", s.mach)?;
     let u = scene.velocity_scale(fluid);
     let length = scene.length_scale();

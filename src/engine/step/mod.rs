@@ -651,6 +651,12 @@ impl Simulation {
             inflow.prescribe(&mut st.velocity_star, inflow.velocity);
         }
         let hood = st.hood.parts();
+        if let Some(fs) = st.free_surface.as_mut() {
+            // Under `contact_line_rows = "held"` (the only choice besides `surface` that the
+            // weakly compressible scheme takes) the surface particles next to a wall.
+            fs.choose_rows(hood.0, &st.hood.points, hood.2);
+            fs.hold_off_walls(&mut st.velocity_star);
+        }
         let shift = self.scheme.shifting.then_some(&s.shift_velocity[..]);
         self.timers.time(Stage::Projection, || {
             weak.continuity(
