@@ -13,20 +13,28 @@ use rheosph::app::run::Outcome;
 #[test]
 fn a_sessile_drop_rests_at_its_contact_angle() {
     for theta in [40.0, 120.0] {
-        let angle = format!("scene.contact_angle={theta}");
-        let case = shipped("sessile-drop.toml", &["run.end_time=20", &angle]);
-        let (s, dir) = run_quiet(&case, false);
-        assert_eq!(s.outcome, Outcome::Finished, "{:?}", s.reason);
-        let d = summary_section(dir.path(), "drop");
-        let measured = d["contact_angle"].as_f64().unwrap();
-        let speed = d["late_max_speed"].as_f64().unwrap();
-        eprintln!("θ = {theta}: measured {measured:.2}°, late speed {speed:.2e}");
-        assert!(
-            (measured - theta).abs() < 3.0,
-            "θ {theta}: measured {measured}"
-        );
-        assert!(speed < 0.1, "not at rest: {speed}");
+        rests_at_its_angle(theta, &["run.end_time=20"]);
     }
+}
+
+/// Runs the shipped sessile drop at `theta` with `overrides` and checks that it finishes at
+/// rest (largest late speed below 1 % of σ/η) within 3° of θ.
+fn rests_at_its_angle(theta: f64, overrides: &[&str]) {
+    let angle = format!("scene.contact_angle={theta}");
+    let mut all = overrides.to_vec();
+    all.push(&angle);
+    let case = shipped("sessile-drop.toml", &all);
+    let (s, dir) = run_quiet(&case, false);
+    assert_eq!(s.outcome, Outcome::Finished, "θ {theta}: {:?}", s.reason);
+    let d = summary_section(dir.path(), "drop");
+    let measured = d["contact_angle"].as_f64().unwrap();
+    let speed = d["late_max_speed"].as_f64().unwrap();
+    eprintln!("θ = {theta}: measured {measured:.2}°, late speed {speed:.2e}");
+    assert!(
+        (measured - theta).abs() < 3.0,
+        "θ {theta}: measured {measured}"
+    );
+    assert!(speed < 0.1, "not at rest: {speed}");
 }
 
 /// The same drops at R/δr = 10, where the wetting foot is one or two particles thick, with
@@ -36,28 +44,13 @@ fn a_sessile_drop_rests_at_its_contact_angle() {
 /// circle at this resolution rests on about 30 surface particles).
 #[test]
 fn a_coarse_wetting_drop_held_off_its_plate_keeps_its_foot() {
+    let coarse = [
+        "run.end_time=20",
+        "scene.resolution=20",
+        "scheme.contact_line_rows=\"held\"",
+    ];
     for theta in [40.0, 60.0] {
-        let angle = format!("scene.contact_angle={theta}");
-        let case = shipped(
-            "sessile-drop.toml",
-            &[
-                "run.end_time=20",
-                "scene.resolution=20",
-                "scheme.contact_line_rows=\"held\"",
-                &angle,
-            ],
-        );
-        let (s, dir) = run_quiet(&case, false);
-        assert_eq!(s.outcome, Outcome::Finished, "θ {theta}: {:?}", s.reason);
-        let d = summary_section(dir.path(), "drop");
-        let measured = d["contact_angle"].as_f64().unwrap();
-        let speed = d["late_max_speed"].as_f64().unwrap();
-        eprintln!("θ = {theta}: measured {measured:.2}°, late speed {speed:.2e}");
-        assert!(
-            (measured - theta).abs() < 3.0,
-            "θ {theta}: measured {measured}"
-        );
-        assert!(speed < 0.1, "not at rest: {speed}");
+        rests_at_its_angle(theta, &coarse);
     }
 }
 

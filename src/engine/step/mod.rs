@@ -653,7 +653,8 @@ impl Simulation {
         let hood = st.hood.parts();
         if let Some(fs) = st.free_surface.as_mut() {
             // Under `contact_line_rows = "held"` (the only choice besides `surface` that the
-            // weakly compressible scheme takes) the surface particles next to a wall.
+            // weakly compressible scheme takes) the surface particles within δr/4 of a wall
+            // lose their velocity into it; under `surface` nothing is held.
             fs.choose_rows(hood.0, &st.hood.points, hood.2);
             fs.hold_off_walls(&mut st.velocity_star);
         }
