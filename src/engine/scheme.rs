@@ -66,6 +66,8 @@ pub struct Scheme {
     pub capillary_time_level: crate::engine::free_surface::CapillaryTimeLevel,
     /// The viscous term's tangential flux through a free surface.
     pub surface_shear: crate::engine::free_surface::SurfaceShear,
+    /// Free surfaces: whether a body of liquid detached from the rest keeps its momentum.
+    pub detached_momentum: crate::engine::free_surface::DetachedMomentum,
 }
 
 impl Scheme {

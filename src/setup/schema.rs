@@ -6,7 +6,8 @@
 use crate::engine::boundary::{TensorMirror, WallModel, WallPressure};
 use crate::engine::frame::Frame;
 use crate::engine::free_surface::{
-    CapillaryTimeLevel, ContactRows, SurfacePressure, SurfaceShear, SurfaceTensionForm,
+    CapillaryTimeLevel, ContactRows, DetachedMomentum, SurfacePressure, SurfaceShear,
+    SurfaceTensionForm,
 };
 use crate::engine::operators::{GradientOrder, LaplacianOrder};
 use crate::engine::rheology::{ConformationScheme, Remap};
@@ -317,6 +318,11 @@ pub struct SchemeSpec {
     /// the paper's) or `shear-free` (plus the tangential flux of the shear-free condition,
     /// ∂u_t/∂n = −∂u_n/∂t); see `engine::free_surface::shear_free`.
     pub surface_shear: SurfaceShear,
+    /// `conserved` (a body of liquid detached from the rest, from walls and from the inflow
+    /// keeps its momentum and angular momentum: the step's net impulse and torque of the
+    /// projection's pressure gradient removed) or `unconstrained` (the paper's); see
+    /// `engine::free_surface::detached`.
+    pub detached_momentum: DetachedMomentum,
 }
 
 impl Default for SchemeSpec {
@@ -368,6 +374,7 @@ impl Default for SchemeSpec {
             surface_tension: SurfaceTensionForm::NormalStress,
             capillary_time_level: CapillaryTimeLevel::Predicted,
             surface_shear: SurfaceShear::Truncated,
+            detached_momentum: DetachedMomentum::Conserved,
         }
     }
 }

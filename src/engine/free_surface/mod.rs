@@ -6,6 +6,7 @@
 //! scenes use the free-surface shifting (40)–(44) and the positive stress divergence (20).
 
 pub mod cohesion;
+pub mod detached;
 pub mod detection;
 pub mod pressure;
 pub mod shear_free;
@@ -36,6 +37,7 @@ pub(crate) fn surface_of(
 }
 
 pub use cohesion::Cohesion;
+pub use detached::{BodyInputs, DetachedBodies, DetachedMomentum};
 pub use detection::{FreeSurface, NEAR_SURFACE_STRENGTH};
 pub use pressure::{SurfaceInputs, SurfacePressure, SurfacePressureRule};
 pub use shear_free::{ShearFreeSurface, SurfaceShear};

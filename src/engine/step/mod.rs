@@ -27,7 +27,8 @@ use crate::engine::boundary::inflow::Inflow;
 use crate::engine::boundary::{Ghosts, Wall, WallPressure};
 use crate::engine::drive::{bulk_velocity, Drive};
 use crate::engine::free_surface::{
-    Cohesion, FreeSurface, FreeSurfaceStage, SurfaceTensionForm, Wetting,
+    BodyInputs, Cohesion, DetachedBodies, DetachedMomentum, FreeSurface, FreeSurfaceStage,
+    SurfaceTensionForm, Wetting,
 };
 use crate::engine::kernel::QuinticSpline;
 use crate::engine::kinematics::Kinematics;
@@ -106,6 +107,9 @@ struct Stages {
     weak: Option<WeakStage>,
     /// A surface tension as a cohesion force (None: none, or the capillary jump σκ).
     cohesion: Option<Cohesion>,
+    /// Free surfaces under the projection: the detached bodies whose momentum the step
+    /// keeps (None: not corrected).
+    detached: Option<DetachedBodies>,
     /// Under [`WallPressure::Momentum`], the force density ∇·Φ + ρg whose normal part the
     /// wall ghosts' pressure continues (None: ∂p/∂n = 0).
     wall_force: Option<Vec<Vec2>>,
@@ -214,6 +218,10 @@ impl Simulation {
                 }
             },
             cohesion,
+            detached: (setup.free_surface
+                && scheme.method == Method::Projection
+                && scheme.detached_momentum == DetachedMomentum::Conserved)
+                .then(DetachedBodies::default),
             wall_force: (scheme.wall_pressure == WallPressure::Momentum).then(Vec::new),
         };
         let mut sim = Self {
@@ -695,6 +703,7 @@ impl Simulation {
     fn projection(&mut self, dt: f64) {
         let (st, s) = (&mut self.stages, &mut self.state);
         let (inflow, dt_over_rho) = (&self.inflow, dt / self.fluid.density);
+        let domain = &self.domain;
         self.timers.time(Stage::Projection, || {
             let full = st.projection.kind == Projection::Standard;
             let solved = st.projection.update_pressure(&mut s.pressure);
@@ -709,6 +718,17 @@ impl Simulation {
             }
             if let Some(inflow) = inflow.as_ref() {
                 inflow.prescribe(&mut st.velocity_star, inflow.velocity);
+            }
+            if let Some(bodies) = st.detached.as_mut() {
+                let n = s.velocity.len();
+                let inputs = BodyInputs {
+                    list: &st.hood.list,
+                    points: &st.hood.points[..n],
+                    buffer: buffer_flags(inflow),
+                    domain,
+                };
+                let pair = (&s.velocity[..], &mut st.velocity_star[..]);
+                bodies.conserve(&inputs, pair, s.body_force, dt);
             }
         });
     }
@@ -774,6 +794,7 @@ impl Simulation {
             + st.viscous.heap_bytes()
             + st.shear_viscosity.as_ref().map_or(0, |v| v.heap_bytes())
             + st.cohesion.as_ref().map_or(0, Cohesion::heap_bytes)
+            + st.detached.as_ref().map_or(0, DetachedBodies::heap_bytes)
             + b(&st.velocity_star)
             + st.projection.heap_bytes()
             + st.pressure.heap_bytes()
