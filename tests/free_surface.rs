@@ -123,7 +123,9 @@ fn a_stressed_free_drop_keeps_its_momentum() {
         let mut sim = Simulation::new(setup);
         let mut seed: u64 = 12345;
         let mut uniform = || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             (seed >> 11) as f64 / (1u64 << 53) as f64
         };
         for a in sim.state.conformation.iter_mut() {
@@ -153,7 +155,10 @@ fn a_stressed_free_drop_keeps_its_momentum() {
     };
     let (free, _) = drift("unconstrained");
     let (kept, spin) = drift("conserved");
-    assert!(free > 1e-3, "the scheme alone kept the momentum ({free:e}): test not needed");
+    assert!(
+        free > 1e-3,
+        "the scheme alone kept the momentum ({free:e}): test not needed"
+    );
     assert!(kept < 1e-12, "momentum / speed {kept:e}");
     assert!(spin < 1e-3, "angular momentum / (arm × speed) {spin:e}");
 }

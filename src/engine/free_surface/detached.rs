@@ -169,7 +169,7 @@ impl DetachedBodies {
             self.torque[root] += d.x * du.y - d.y * du.x;
             self.inertia[root] += d.norm_squared();
         }
-        for i in 0..n {
+        for (i, u) in new.iter_mut().enumerate() {
             let root = self.parent[i] as usize;
             if self.anchored[root] {
                 continue;
@@ -182,7 +182,7 @@ impl DetachedBodies {
                 0.0
             };
             let correction = self.impulse[root] + omega * Vec2::new(-d.y, d.x);
-            new[i] -= correction;
+            *u -= correction;
             self.largest_correction = self.largest_correction.max(correction.norm());
         }
         self.body_steps += bodies as u64;

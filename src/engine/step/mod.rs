@@ -850,6 +850,15 @@ impl Simulation {
             .map_or(0, |fs| fs.wall_holds)
     }
 
+    /// Detached bodies of liquid corrected so far (summed over the steps) and the largest
+    /// velocity one correction removed from a particle ([`DetachedBodies`]; zeros without).
+    pub fn detached_corrections(&self) -> (u64, f64) {
+        self.stages
+            .detached
+            .as_ref()
+            .map_or((0, 0.0), |d| (d.body_steps, d.largest_correction))
+    }
+
     /// The vorticity ω = ∂v/∂x − ∂u/∂y of the velocity at the start of the last step (the
     /// Bonet–Lok gradient of step 2; zeros before the first step).
     pub fn vorticity(&self) -> Vec<f64> {

@@ -42,6 +42,11 @@ pub struct JetSummary {
     /// How many times a surface particle on the plate with no interior neighbour had its
     /// velocity into the plate removed (`scheme.contact_line_rows = "wall"`).
     pub wall_holds: u64,
+    /// Detached bodies of liquid whose momentum a step corrected, summed over the steps, and
+    /// the largest velocity one correction removed from a particle (m/s)
+    /// (`scheme.detached_momentum = "conserved"`; 0 otherwise).
+    pub detached_body_steps: u64,
+    pub largest_detached_correction: f64,
 }
 
 /// The jet probe of a run.
@@ -97,7 +102,7 @@ impl JetProbe {
         out
     }
 
-    pub fn summary(&self, spacing: f64, wall_holds: u64) -> JetSummary {
+    pub fn summary(&self, spacing: f64, (wall_holds, detached): (u64, (u64, f64))) -> JetSummary {
         let t_impact = self
             .rows
             .iter()
@@ -133,6 +138,8 @@ impl JetProbe {
                 .filter(|v| v.is_finite())
                 .fold(0.0, f64::max),
             wall_holds,
+            detached_body_steps: detached.0,
+            largest_detached_correction: detached.1,
         }
     }
 
@@ -193,8 +200,9 @@ impl Probe for JetProbe {
         if let Some(format) = charts {
             self.charts(dir, format)?;
         }
-        Ok(Some(serde_json::to_value(
-            self.summary(sim.spacing, sim.surface_wall_holds()),
-        )?))
+        Ok(Some(serde_json::to_value(self.summary(
+            sim.spacing,
+            (sim.surface_wall_holds(), sim.detached_corrections()),
+        ))?))
     }
 }
