@@ -88,8 +88,7 @@ impl DetachedBodies {
         let n = inputs.points.len();
         self.parent.clear();
         self.parent.extend(0..n as u32);
-        self.anchored.clear();
-        self.anchored.resize(n, false);
+        reset(&mut self.anchored, n, false);
         for i in 0..n {
             for &j in &inputs.list.index[inputs.list.range(i)] {
                 if j as usize >= n {
@@ -130,16 +129,11 @@ impl DetachedBodies {
                 .domain
                 .min_image(inputs.points[i] - inputs.points[root])
         };
-        self.count.clear();
-        self.count.resize(n, 0);
-        self.centre.clear();
-        self.centre.resize(n, Vec2::zeros());
-        self.impulse.clear();
-        self.impulse.resize(n, Vec2::zeros());
-        self.torque.clear();
-        self.torque.resize(n, 0.0);
-        self.inertia.clear();
-        self.inertia.resize(n, 0.0);
+        reset(&mut self.count, n, 0);
+        reset(&mut self.centre, n, Vec2::zeros());
+        reset(&mut self.impulse, n, Vec2::zeros());
+        reset(&mut self.torque, n, 0.0);
+        reset(&mut self.inertia, n, 0.0);
         for i in 0..n {
             let root = self.parent[i] as usize;
             if self.anchored[root] {
@@ -188,6 +182,12 @@ impl DetachedBodies {
         self.body_steps += bodies as u64;
         bodies
     }
+}
+
+/// `v` as `n` copies of `value`, in its own buffer.
+fn reset<T: Clone>(v: &mut Vec<T>, n: usize, value: T) {
+    v.clear();
+    v.resize(n, value);
 }
 
 #[cfg(test)]
