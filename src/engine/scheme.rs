@@ -56,6 +56,8 @@ pub struct Scheme {
     pub laplacian_order: LaplacianOrder,
     /// Free surfaces: the Dirichlet pressure rule.
     pub free_surface_pressure: SurfacePressure,
+    /// Free surfaces: the neighbours of the normal-stress rule's velocity gradient.
+    pub surface_gradient: crate::engine::free_surface::SurfaceGradient,
     /// The PPE row of a surface particle in a wall's first half-spacing.
     pub contact_line_rows: crate::engine::free_surface::ContactRows,
     /// Free surfaces: the repulsive term of (42)–(44) in the shifting of internal particles.
@@ -78,6 +80,7 @@ impl Scheme {
             contact_rows: self.contact_line_rows,
             time_level: self.capillary_time_level,
             shear: self.surface_shear,
+            gradient: self.surface_gradient,
         }
     }
 

@@ -6,8 +6,8 @@
 use crate::engine::boundary::{TensorMirror, WallModel, WallPressure};
 use crate::engine::frame::Frame;
 use crate::engine::free_surface::{
-    CapillaryTimeLevel, ContactRows, DetachedMomentum, SurfacePressure, SurfaceShear,
-    SurfaceTensionForm,
+    CapillaryTimeLevel, ContactRows, DetachedMomentum, SurfaceGradient, SurfacePressure,
+    SurfaceShear, SurfaceTensionForm,
 };
 use crate::engine::operators::{GradientOrder, LaplacianOrder};
 use crate::engine::rheology::{ConformationScheme, Remap};
@@ -298,6 +298,10 @@ pub struct SchemeSpec {
     pub projection: ProjectionChoice,
     /// Free surfaces: `normal-stress` (35a) or `zero` Dirichlet pressure.
     pub free_surface_pressure: SurfacePressure,
+    /// Free surfaces: `full` (the normal-stress pressure's ∇u* over the whole support, the
+    /// paper's) or `own-side` (over the neighbours on the particle's own side of the surface;
+    /// see `engine::free_surface::SurfaceGradient`).
+    pub surface_gradient: SurfaceGradient,
     /// Free surfaces: `surface` (every surface particle a Dirichlet row, the paper's) or
     /// `wall` (a surface particle within δr/2 of a wall an interior row, held off the wall
     /// by the PPE; not with `scene.contact_angle`) or `held` (every surface particle a
@@ -369,6 +373,7 @@ impl Default for SchemeSpec {
             laplacian_order: LaplacianOrder::First,
             projection: ProjectionChoice::Auto,
             free_surface_pressure: SurfacePressure::NormalStress,
+            surface_gradient: SurfaceGradient::Full,
             contact_line_rows: ContactRows::Surface,
             surface_repulsion: true,
             surface_tension: SurfaceTensionForm::NormalStress,

@@ -406,6 +406,7 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
         gradient_order: s.gradient_order,
         laplacian_order: s.laplacian_order,
         free_surface_pressure: s.free_surface_pressure,
+        surface_gradient: s.surface_gradient,
         contact_line_rows: s.contact_line_rows,
         surface_repulsion: s.surface_repulsion,
         surface_tension: s.surface_tension,

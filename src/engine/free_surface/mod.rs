@@ -39,7 +39,7 @@ pub(crate) fn surface_of(
 pub use cohesion::Cohesion;
 pub use detached::{BodyInputs, DetachedBodies, DetachedMomentum};
 pub use detection::{FreeSurface, NEAR_SURFACE_STRENGTH};
-pub use pressure::{SurfaceInputs, SurfacePressure, SurfacePressureRule};
+pub use pressure::{SurfaceGradient, SurfaceInputs, SurfacePressure, SurfacePressureRule};
 pub use shear_free::{ShearFreeSurface, SurfaceShear};
 pub use tension::{CapillaryTimeLevel, SurfaceTension};
 pub use wetting::Wetting;
@@ -108,6 +108,8 @@ pub struct SurfaceOptions {
     pub time_level: CapillaryTimeLevel,
     /// The viscous term's tangential flux through the surface.
     pub shear: SurfaceShear,
+    /// The neighbours of (35a)'s velocity gradient.
+    pub gradient: SurfaceGradient,
 }
 
 /// The free-surface stage: the surface of the current step and its pressure rule.
@@ -150,7 +152,7 @@ impl FreeSurfaceStage {
         });
         Self {
             surface: FreeSurface::default(),
-            rule: rule.rule(),
+            rule: rule.rule(options.gradient),
             tension,
             dirichlet: Vec::new(),
             contact_rows,
@@ -337,6 +339,7 @@ mod tests {
             contact_rows: contact,
             time_level: CapillaryTimeLevel::Predicted,
             shear: SurfaceShear::Truncated,
+            gradient: SurfaceGradient::Full,
         };
         let mut stage = FreeSurfaceStage::new(options, 0.0, 0.1, None);
         stage.surface.on_surface = vec![true, true, false, true];

@@ -35,12 +35,37 @@ pub enum SurfacePressure {
     Zero,
 }
 
+/// Which neighbours the velocity gradient of (35a) is taken over (`scheme.surface_gradient`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SurfaceGradient {
+    /// The corrected gradient (20) over the whole support, as everywhere else (the paper's).
+    #[default]
+    Full,
+    /// Only the neighbours on the particle's own side of its surface, those less than
+    /// [`OWN_SIDE_REACH`]·δr out along its normal, with the Bonet–Lok correction of that
+    /// subset ([`own_side_gradient`]). At a true free surface nothing lies further out and
+    /// the two agree to the correction's consistency; at a crack or a peeling skin narrower
+    /// than the support they differ, and only this one is the surface's own strain rate.
+    OwnSide,
+}
+
+/// How far out along its normal (in δr) a neighbour may lie and still count as on a surface
+/// particle's own side ([`SurfaceGradient::OwnSide`]): a rough surface's own row lies within
+/// about ±0.3δr of the tangent.
+pub const OWN_SIDE_REACH: f64 = 0.5;
+
 impl SurfacePressure {
-    pub fn rule(self) -> Box<dyn SurfacePressureRule> {
+    /// The rule, with (35a)'s velocity gradient taken as `gradient` says.
+    pub fn rule(self, gradient: SurfaceGradient) -> Box<dyn SurfacePressureRule> {
         match self {
-            SurfacePressure::NormalStress => Box::new(NormalStress::default()),
+            SurfacePressure::NormalStress => Box::new(NormalStress {
+                gradient,
+                ..Default::default()
+            }),
             SurfacePressure::NormalStressNeighbours => Box::new(NormalStress {
                 sparse_from_neighbours: true,
+                gradient,
                 ..Default::default()
             }),
             SurfacePressure::Zero => Box::new(Zero),
@@ -89,6 +114,9 @@ pub struct NormalStress {
     grad_u_star: Vec<Mat2>,
     /// Sparse surface particles take their trusted neighbours' mean (else p = 0).
     sparse_from_neighbours: bool,
+    gradient: SurfaceGradient,
+    /// Scratch of [`sparse_surface_pressure`], kept from step to step.
+    sparse_values: Vec<(usize, f64)>,
 }
 
 impl SurfacePressureRule for NormalStress {
@@ -111,10 +139,20 @@ impl SurfacePressureRule for NormalStress {
         let surface = |i: usize| fs[i] && !prescribed.get(i).copied().unwrap_or(false);
         let trusted =
             |i: usize| i < n && surface(i) && list.range(i).len() >= MIN_SURFACE_NEIGHBOURS;
+        let (own_side, sums, u) = (
+            self.gradient == SurfaceGradient::OwnSide,
+            inputs.sums,
+            inputs.velocity_star,
+        );
         out.par_iter_mut()
             .enumerate()
             .filter(|(i, _)| trusted(*i))
             .for_each(|(i, p)| {
+                let grad_i = if own_side {
+                    own_side_gradient(list, sums, u, i, normal[i]).unwrap_or(grad[i])
+                } else {
+                    grad[i]
+                };
                 let tau = if conformation.is_empty() {
                     Sym2::ZERO
                 } else {
@@ -122,17 +160,56 @@ impl SurfacePressureRule for NormalStress {
                 };
                 // A shear-dependent viscosity's own η(γ̇) at the particle.
                 let eta = factor.get(i).map_or(eta_s, |phi| phi * eta_s);
-                *p = normal_stress_pressure(normal[i], &grad[i], &tau, eta);
+                *p = normal_stress_pressure(normal[i], &grad_i, &tau, eta);
             });
         if self.sparse_from_neighbours {
             let sparse = |i: usize| surface(i) && !trusted(i);
-            sparse_surface_pressure(out, list, &inputs.sums.value, trusted, sparse);
+            let scratch = &mut self.sparse_values;
+            sparse_surface_pressure(out, list, &inputs.sums.value, trusted, sparse, scratch);
         }
     }
 
     fn heap_bytes(&self) -> usize {
-        crate::engine::vec_bytes(&self.grad_u_star)
+        crate::engine::vec_bytes(&self.grad_u_star) + crate::engine::vec_bytes(&self.sparse_values)
     }
+}
+
+/// ∇u at surface particle i from the neighbours on its own side of the surface only (those
+/// less than [`OWN_SIDE_REACH`]·δr out along its unit normal `n`), with the Bonet–Lok
+/// correction of that subset: ∇u = G M⁻¹, G = Σ_j V_j (u_j − u_i) ⊗ ∇W_ij,
+/// M = Σ_j V_j (r_j − r_i) ⊗ ∇W_ij (eqs. (20), (22) on the subset). None when the subset's M
+/// is singular (|det M| < 1e-3 against ≈ 1 in full support).
+///
+/// Why: at a crack or a peeling skin narrower than the support the full gradient takes in the
+/// other face. Measured on the Oldroyd-B jet at Wi = 1/3 (`normal-stress-neighbours`, `held`,
+/// t ≈ 0.2 s): a two-row skin peeling off the buckling pile left the faces of the opening gap
+/// with 2η_s n·D·n = +760 to +930 Pa, against 200–300 Pa in the pile, because the skin on the
+/// other side was moving away at 0.2–0.6 m/s; these Dirichlet values pushed the skin off
+/// (a 9-particle splash at 1.04 m/s, 5 U0, which later left the box).
+pub fn own_side_gradient(
+    list: &NeighbourList,
+    sums: &KernelSums,
+    u: &[Vec2],
+    i: usize,
+    n: Vec2,
+) -> Option<Mat2> {
+    let reach = OWN_SIDE_REACH * sums.dv.sqrt();
+    let (mut g, mut m) = (Mat2::zeros(), Mat2::zeros());
+    for k in list.range(i) {
+        // r_ij = r_i − r_j, ∇W_ij = F r_ij.
+        let rij = list.rij[k];
+        if -rij.dot(&n) >= reach {
+            continue;
+        }
+        let grad_w = rij * sums.factor[k];
+        g += (u[list.index[k] as usize] - u[i]) * grad_w.transpose();
+        m += -rij * grad_w.transpose();
+    }
+    let (g, m) = (g * sums.dv, m * sums.dv);
+    if m.determinant().abs() < 1e-3 {
+        return None;
+    }
+    m.try_inverse().map(|inv| g * inv)
 }
 
 /// The Dirichlet pressure of the `sparse` surface particles: the kernel-weighted mean
@@ -150,8 +227,10 @@ pub fn sparse_surface_pressure(
     kernel_value: &[f64],
     trusted: impl Fn(usize) -> bool + Sync,
     sparse: impl Fn(usize) -> bool + Sync,
+    values: &mut Vec<(usize, f64)>,
 ) {
-    let values: Vec<(usize, f64)> = (0..out.len())
+    values.clear();
+    let found = (0..out.len())
         .into_par_iter()
         .filter(|&i| sparse(i))
         .map(|i| {
@@ -164,9 +243,9 @@ pub fn sparse_surface_pressure(
                 }
             }
             (i, if weight > 0.0 { sum / weight } else { 0.0 })
-        })
-        .collect();
-    for (i, p) in values {
+        });
+    values.par_extend(found);
+    for &(i, p) in values.iter() {
         out[i] = p;
     }
 }
@@ -211,7 +290,15 @@ mod tests {
         let value: Vec<f64> = list.rij.iter().map(|r| kernel.value(r.norm())).collect();
         let mut out = vec![100.0, 200.0, 0.0, 400.0, 500.0, 0.0];
         let sparse = |i: usize| i == 2 || i == 5;
-        sparse_surface_pressure(&mut out, &list, &value, |j| !sparse(j), sparse);
+        let mut scratch = Vec::new();
+        sparse_surface_pressure(
+            &mut out,
+            &list,
+            &value,
+            |j| !sparse(j),
+            sparse,
+            &mut scratch,
+        );
         // Particle 2 between 1 and 3 (equal weights), 0 and 4 (equal weights): the mean 300.
         assert!((out[2] - 300.0).abs() < 1e-9, "{}", out[2]);
         assert_eq!(out[5], 0.0);
@@ -219,6 +306,56 @@ mod tests {
             [out[0], out[1], out[3], out[4]],
             [100.0, 200.0, 400.0, 500.0]
         );
+    }
+
+    /// A surface particle on the lower face of a crack: fluid below (y ≤ 0) in a linear field
+    /// u = (0.3x + 0.5y, −0.3y), a gap of 1.5δr, and a skin above it (two rows) moving up at
+    /// 1. The own-side gradient recovers the lower fluid's ∇u exactly (the subset's Bonet–Lok
+    /// correction is first-order consistent, so to round-off); the full gradient takes in the
+    /// skin and reads a normal strain rate ∂v/∂y of the wrong sign.
+    #[test]
+    fn the_own_side_gradient_ignores_the_far_face_of_a_crack() {
+        use crate::engine::kernel::QuinticSpline;
+        use crate::engine::neighbours::{Domain, NeighbourSearch};
+        let dr = 0.1;
+        let mut pts = Vec::new();
+        for ix in -8..=8 {
+            for iy in -6..=0 {
+                pts.push(Vec2::new(ix as f64 * dr, iy as f64 * dr));
+            }
+            for iy in 0..2 {
+                pts.push(Vec2::new(ix as f64 * dr, (2.5 + iy as f64) * dr));
+            }
+        }
+        let field = |r: Vec2| {
+            if r.y > 0.0 {
+                Vec2::new(0.0, 1.0)
+            } else {
+                Vec2::new(0.3 * r.x + 0.5 * r.y, -0.3 * r.y)
+            }
+        };
+        let u: Vec<Vec2> = pts.iter().map(|&r| field(r)).collect();
+        let domain = Domain {
+            min: Vec2::new(-2.0, -2.0),
+            max: Vec2::new(2.0, 2.0),
+            periodic: [false, false],
+        };
+        let kernel = QuinticSpline::for_spacing(dr);
+        let mut list = NeighbourList::default();
+        NeighbourSearch::new().build(&domain, &pts, pts.len(), kernel.support(), &mut list);
+        let mut sums = KernelSums::default();
+        sums.update(&list, &kernel, dr * dr);
+        let i = pts
+            .iter()
+            .position(|r| r.x.abs() < 1e-12 && r.y.abs() < 1e-12)
+            .unwrap();
+        let own = own_side_gradient(&list, &sums, &u, i, Vec2::new(0.0, 1.0)).unwrap();
+        let exact = Mat2::new(0.3, 0.5, 0.0, -0.3);
+        assert!((own - exact).norm() < 1e-10, "{own}");
+        let mut full = vec![Mat2::zeros(); pts.len()];
+        sums.gradient_vector(&list, &u, &mut full);
+        // Measured: +0.27, extension where the fluid is compressed at −0.3.
+        assert!(full[i][(1, 1)] > 0.0, "{}", full[i]);
     }
 
     #[test]
