@@ -309,8 +309,8 @@ mod tests {
     }
 
     /// A surface particle on the lower face of a crack: fluid below (y ≤ 0) in a linear field
-    /// u = (0.3x + 0.5y, −0.3y), a gap of 1.5δr, and a skin above it (two rows) moving up at
-    /// 1. The own-side gradient recovers the lower fluid's ∇u exactly (the subset's Bonet–Lok
+    /// u = (0.3x + 0.5y, −0.3y), a gap of 1.5δr, and a skin above it (two rows) moving up
+    /// with u = (0, 1). The own-side gradient recovers the lower fluid's ∇u exactly (the subset's Bonet–Lok
     /// correction is first-order consistent, so to round-off); the full gradient takes in the
     /// skin and reads a normal strain rate ∂v/∂y of the wrong sign.
     #[test]
