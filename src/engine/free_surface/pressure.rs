@@ -265,6 +265,22 @@ pub fn normal_stress_pressure(normal: Vec2, grad_u: &Mat2, tau_p: &Sym2, eta_s: 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::engine::kernel::QuinticSpline;
+
+    /// The kernel for spacing `dr` and the neighbour list of `pts` (all within [−2, 6]²,
+    /// no periodicity).
+    fn neighbours(pts: &[Vec2], dr: f64) -> (QuinticSpline, NeighbourList) {
+        use crate::engine::neighbours::{Domain, NeighbourSearch};
+        let domain = Domain {
+            min: Vec2::new(-2.0, -2.0),
+            max: Vec2::new(6.0, 6.0),
+            periodic: [false, false],
+        };
+        let kernel = QuinticSpline::for_spacing(dr);
+        let mut list = NeighbourList::default();
+        NeighbourSearch::new().build(&domain, pts, pts.len(), kernel.support(), &mut list);
+        (kernel, list)
+    }
 
     /// (35a) for prescribed states: a flat surface facing +y under a pure polymer stress τ_yy
     /// carries p = τ_yy; facing +x under extension ∂u/∂x = a, p = 2η_s a; and for an oblique
@@ -273,20 +289,11 @@ mod tests {
     /// without trusted neighbours p = 0; trusted values are left alone.
     #[test]
     fn a_sparse_surface_particle_takes_its_neighbours_pressure() {
-        use crate::engine::kernel::QuinticSpline;
-        use crate::engine::neighbours::{Domain, NeighbourSearch};
         let dr = 0.1;
         // A row of five particles, and one far away.
         let mut pts: Vec<Vec2> = (0..5).map(|k| Vec2::new(k as f64 * dr, 0.0)).collect();
         pts.push(Vec2::new(5.0, 5.0));
-        let domain = Domain {
-            min: Vec2::new(-1.0, -1.0),
-            max: Vec2::new(6.0, 6.0),
-            periodic: [false, false],
-        };
-        let kernel = QuinticSpline::for_spacing(dr);
-        let mut list = NeighbourList::default();
-        NeighbourSearch::new().build(&domain, &pts, pts.len(), kernel.support(), &mut list);
+        let (kernel, list) = neighbours(&pts, dr);
         let value: Vec<f64> = list.rij.iter().map(|r| kernel.value(r.norm())).collect();
         let mut out = vec![100.0, 200.0, 0.0, 400.0, 500.0, 0.0];
         let sparse = |i: usize| i == 2 || i == 5;
@@ -315,8 +322,6 @@ mod tests {
     /// skin and reads a normal strain rate ∂v/∂y of the wrong sign.
     #[test]
     fn the_own_side_gradient_ignores_the_far_face_of_a_crack() {
-        use crate::engine::kernel::QuinticSpline;
-        use crate::engine::neighbours::{Domain, NeighbourSearch};
         let dr = 0.1;
         let mut pts = Vec::new();
         for ix in -8..=8 {
@@ -335,14 +340,7 @@ mod tests {
             }
         };
         let u: Vec<Vec2> = pts.iter().map(|&r| field(r)).collect();
-        let domain = Domain {
-            min: Vec2::new(-2.0, -2.0),
-            max: Vec2::new(2.0, 2.0),
-            periodic: [false, false],
-        };
-        let kernel = QuinticSpline::for_spacing(dr);
-        let mut list = NeighbourList::default();
-        NeighbourSearch::new().build(&domain, &pts, pts.len(), kernel.support(), &mut list);
+        let (kernel, list) = neighbours(&pts, dr);
         let mut sums = KernelSums::default();
         sums.update(&list, &kernel, dr * dr);
         let i = pts
