@@ -183,9 +183,10 @@ impl SurfacePressureRule for NormalStress {
 /// Why: at a crack or a peeling skin narrower than the support the full gradient takes in the
 /// other face. Measured on the Oldroyd-B jet at Wi = 1/3 (`normal-stress-neighbours`, `held`,
 /// t ≈ 0.2 s): a two-row skin peeling off the buckling pile left the faces of the opening gap
-/// with 2η_s n·D·n = +760 to +930 Pa, against 200–300 Pa in the pile, because the skin on the
-/// other side was moving away at 0.2–0.6 m/s; these Dirichlet values pushed the skin off
-/// (a 9-particle splash at 1.04 m/s, 5 U0, which later left the box).
+/// with (35a) values of +450 to +640 Pa (2η_s n·D·n ≈ +660 to +930 Pa), against 200–300 Pa in
+/// the pile, because the skin on the other side was moving away at 0.2–0.6 m/s; these
+/// Dirichlet values pushed the skin off (a 9-particle splash at 1.04 m/s, 5 U0, which later
+/// left the box).
 pub fn own_side_gradient(
     list: &NeighbourList,
     sums: &KernelSums,
