@@ -288,7 +288,11 @@ impl Reference {
                 let scale = |v: Vec<f64>| v.into_iter().map(|x| x * stress_scale).collect();
                 Ok(StressProfiles {
                     xy: scale(series.shear_stress_profile(&eta, tau)),
-                    xx: scale(series.normal_stress_profile(&eta, tau, 2000)),
+                    xx: scale(series.normal_stress_profile(
+                        &eta,
+                        tau,
+                        series.normal_stress_substeps(tau),
+                    )),
                     yy: vec![0.0; ys.len()],
                 })
             }
