@@ -68,6 +68,8 @@ pub struct Scheme {
     pub capillary_time_level: crate::engine::free_surface::CapillaryTimeLevel,
     /// The viscous term's tangential flux through a free surface.
     pub surface_shear: crate::engine::free_surface::SurfaceShear,
+    /// Free surfaces: whether surface membership is sharp (36) or blended.
+    pub surface_indicator: crate::engine::free_surface::SurfaceIndicator,
     /// Free surfaces: whether a body of liquid detached from the rest keeps its momentum.
     pub detached_momentum: crate::engine::free_surface::DetachedMomentum,
 }
@@ -81,6 +83,7 @@ impl Scheme {
             time_level: self.capillary_time_level,
             shear: self.surface_shear,
             gradient: self.surface_gradient,
+            indicator: self.surface_indicator,
         }
     }
 

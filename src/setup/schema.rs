@@ -6,8 +6,8 @@
 use crate::engine::boundary::{TensorMirror, WallModel, WallPressure};
 use crate::engine::frame::Frame;
 use crate::engine::free_surface::{
-    CapillaryTimeLevel, ContactRows, DetachedMomentum, SurfaceGradient, SurfacePressure,
-    SurfaceShear, SurfaceTensionForm,
+    CapillaryTimeLevel, ContactRows, DetachedMomentum, SurfaceGradient, SurfaceIndicator,
+    SurfacePressure, SurfaceShear, SurfaceTensionForm,
 };
 use crate::engine::operators::{GradientOrder, LaplacianOrder};
 use crate::engine::rheology::{ConformationScheme, Remap};
@@ -318,6 +318,10 @@ pub struct SchemeSpec {
     /// (rⁿ + (δt/2)uⁿ, no damping of a capillary mode from the step): where the capillary
     /// pressure's curvature is taken; see `engine::free_surface::tension`.
     pub capillary_time_level: CapillaryTimeLevel,
+    /// Free surfaces: `sharp` ((36) decides, the paper's) or `blended` (a particle (36) has
+    /// just taken into FS counts partly, rising to full weight a tenth of ⟨∇·r⟩ further in);
+    /// see `engine::free_surface::SurfaceIndicator`.
+    pub surface_indicator: SurfaceIndicator,
     /// `truncated` (the Laplacian of (21) as it is on a surface particle's truncated support,
     /// the paper's) or `shear-free` (plus the tangential flux of the shear-free condition,
     /// ∂u_t/∂n = −∂u_n/∂t); see `engine::free_surface::shear_free`.
@@ -378,6 +382,7 @@ impl Default for SchemeSpec {
             surface_repulsion: true,
             surface_tension: SurfaceTensionForm::NormalStress,
             capillary_time_level: CapillaryTimeLevel::Predicted,
+            surface_indicator: SurfaceIndicator::Sharp,
             surface_shear: SurfaceShear::Truncated,
             detached_momentum: DetachedMomentum::Conserved,
         }

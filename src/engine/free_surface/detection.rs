@@ -58,6 +58,11 @@ pub struct FreeSurface {
     pub position_divergence: Vec<f64>,
     /// Membership of FS.
     pub on_surface: Vec<bool>,
+    /// How far inside FS each particle lies: (36)'s threshold less ⟨∇·r⟩_i (positive on FS
+    /// by (36), +∞ on particles the exposure test or an inflow buffer put there).
+    pub margin: Vec<f64>,
+    /// Width of [`Self::weight`]'s ramp in ⟨∇·r⟩ (0: every FS particle weighs 1).
+    pub blend_width: f64,
     /// Membership of NS (a neighbour in FS, not itself in FS).
     pub near_surface: Vec<bool>,
     /// Unit outward normal n_i of (39) for FS and NS particles, zero elsewhere.
@@ -72,12 +77,21 @@ pub struct FreeSurface {
 }
 
 impl FreeSurface {
+    /// Empty sets whose FS weights ramp over `blend_width` ([`Self::weight`]).
+    pub fn with_blend_width(blend_width: f64) -> Self {
+        Self {
+            blend_width,
+            ..Self::default()
+        }
+    }
+
     /// Heap bytes held.
     pub fn heap_bytes(&self) -> usize {
         use crate::engine::vec_bytes as b;
         b(&self.concentration)
             + b(&self.position_divergence)
             + b(&self.on_surface)
+            + b(&self.margin)
             + b(&self.near_surface)
             + b(&self.normal)
             + b(&self.normal_strength)
@@ -94,6 +108,21 @@ impl FreeSurface {
             self.on_surface[i]
                 || (self.near_surface[i] && self.normal_strength[i] > NEAR_SURFACE_STRENGTH)
         }));
+    }
+
+    /// How much FS particle i counts as surface, in [0, 1] (0 off FS): 1 without a blend
+    /// width; with one, the smooth step 3x² − 2x³ of x = margin/width, so that a particle
+    /// that (36) has only just taken into FS joins it gradually as it moves further in
+    /// ([`crate::engine::free_surface::SurfaceIndicator::Blended`]).
+    pub fn weight(&self, i: usize) -> f64 {
+        if !self.on_surface[i] {
+            return 0.0;
+        }
+        if self.blend_width <= 0.0 {
+            return 1.0;
+        }
+        let x = (self.margin[i] / self.blend_width).clamp(0.0, 1.0);
+        x * x * (3.0 - 2.0 * x)
     }
 
     /// Particles in FS.
@@ -132,14 +161,17 @@ impl FreeSurface {
         let mean_c = crate::engine::reduce::blocked_sum(n, |i| self.concentration[i]) / n as f64;
         let (c, div) = (&self.concentration, &self.position_divergence);
         self.on_surface.resize(n, false);
+        self.margin.resize(n, 0.0);
         self.on_surface
             .par_iter_mut()
+            .zip(self.margin.par_iter_mut())
             .enumerate()
-            .for_each(|(i, s)| {
+            .for_each(|(i, (s, margin))| {
                 let relative = c[i] / mean_c;
                 let threshold = DIVERGENCE_THRESHOLD
                     + CONCENTRATION_WEIGHT * (relative - 1.0).max(CONCENTRATION_FLOOR);
                 *s = div[i] <= threshold;
+                *margin = threshold - div[i];
             });
         self.near_and_normals(list, sums, kernel);
         if self.expose(list, kernel) {
@@ -225,9 +257,17 @@ impl FreeSurface {
                 });
         });
         let mut any = false;
-        for (s, &e) in self.on_surface.iter_mut().zip(&exposed) {
-            *s |= e;
-            any |= e;
+        for ((s, &e), margin) in self
+            .on_surface
+            .iter_mut()
+            .zip(&exposed)
+            .zip(&mut self.margin)
+        {
+            if e {
+                *s = true;
+                *margin = f64::INFINITY;
+                any = true;
+            }
         }
         self.exposed = exposed;
         any
@@ -303,6 +343,21 @@ mod tests {
         assert!(div > DIVERGENCE_THRESHOLD, "div r = {div}");
         // The outer ring less the hole, and the exposed particle.
         assert_eq!(fs.count(), 4 * (m - 1));
+        // It counts in full under a blended indicator too; (36)'s own surface particles
+        // by their margin, the interior not at all.
+        let blended = FreeSurface {
+            blend_width: 0.1,
+            ..fs.clone()
+        };
+        assert_eq!(fs.margin[below], f64::INFINITY);
+        assert_eq!(blended.weight(below), 1.0);
+        assert_eq!(blended.weight(second), 0.0);
+        for k in (0..points.len()).filter(|&k| fs.on_surface[k] && k != below) {
+            let x = (fs.margin[k] / 0.1).clamp(0.0, 1.0);
+            assert!(fs.margin[k] >= 0.0);
+            assert_eq!(blended.weight(k), x * x * (3.0 - 2.0 * x));
+            assert_eq!(fs.weight(k), 1.0);
+        }
     }
 
     /// A disc of radius 20 δr built of concentric rings (as drops are, [`crate::engine::lattice::disc`]):

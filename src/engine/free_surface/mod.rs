@@ -50,6 +50,7 @@ use crate::engine::math::{Sym2, Vec2};
 use crate::engine::neighbours::NeighbourList;
 use crate::engine::operators::KernelSums;
 use crate::engine::rheology::Fluid;
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// How a surface tension acts (`scheme.surface_tension`).
@@ -97,6 +98,44 @@ pub enum ContactRows {
     Held,
 }
 
+/// Whether a particle is on the free surface or not, or partly (`scheme.surface_indicator`).
+///
+/// (36) is a threshold: a particle whose ⟨∇·r⟩ crosses it changes its PPE row from the
+/// Poisson equation to the Dirichlet value of (35a) with σκ in one step, and enters its
+/// neighbours' curvature fits at full weight. Measured on `cases/capillary-rise.toml` (θ =
+/// 30°, README): a particle under a steep meniscus that crossed it without moving went from
+/// p = −0.36 to −3.48 and its outer neighbour's fitted value from −0.36 to +4.05 in that
+/// step; the largest speed went from 0.03 to 0.51 five steps later.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SurfaceIndicator {
+    /// FS or not, by (36) (the paper's).
+    #[default]
+    Sharp,
+    /// A particle of FS counts with a weight s rising smoothly from 0 where (36) first takes
+    /// it in to 1 at [`BLEND_WIDTH`] further in ([`FreeSurface::weight`]): in its neighbours'
+    /// curvature fits with s times its kernel weight, and in its own Dirichlet value as
+    /// `s·p_D + (1 − s)·pⁿ`, a value that starts from its last pressure and relaxes towards
+    /// (35a) by the fraction s each step. Particles well inside FS (s = 1) are as under
+    /// `Sharp`, and so is a steady state.
+    Blended,
+}
+
+/// The ramp of [`SurfaceIndicator::Blended`] in ⟨∇·r⟩ (full support: 2; a flat surface's
+/// first row ≈ 1.22, its second ≈ 1.74, against (36)'s threshold of 1.3–1.4): about ten
+/// percent of the FS particles of the capillary rise at rest lie on it.
+pub const BLEND_WIDTH: f64 = 0.1;
+
+impl SurfaceIndicator {
+    /// The ramp's width in ⟨∇·r⟩ (0: sharp).
+    pub fn width(self) -> f64 {
+        match self {
+            SurfaceIndicator::Sharp => 0.0,
+            SurfaceIndicator::Blended => BLEND_WIDTH,
+        }
+    }
+}
+
 /// The scheme's free-surface choices, taken once at setup.
 #[derive(Clone, Copy, Debug)]
 pub struct SurfaceOptions {
@@ -110,6 +149,8 @@ pub struct SurfaceOptions {
     pub shear: SurfaceShear,
     /// The neighbours of (35a)'s velocity gradient.
     pub gradient: SurfaceGradient,
+    /// Whether surface membership is sharp or blended.
+    pub indicator: SurfaceIndicator,
 }
 
 /// The free-surface stage: the surface of the current step and its pressure rule.
@@ -151,7 +192,7 @@ impl FreeSurfaceStage {
             t
         });
         Self {
-            surface: FreeSurface::default(),
+            surface: FreeSurface::with_blend_width(options.indicator.width()),
             rule: rule.rule(options.gradient),
             tension,
             dirichlet: Vec::new(),
@@ -210,6 +251,7 @@ impl FreeSurfaceStage {
         for (i, _) in prescribed.iter().enumerate().filter(|(_, &b)| b) {
             self.surface.on_surface[i] = true;
             self.surface.near_surface[i] = false;
+            self.surface.margin[i] = f64::INFINITY;
         }
     }
 
@@ -227,7 +269,7 @@ impl FreeSurfaceStage {
         (velocity_star, motion): (&[Vec2], (&[Vec2], f64)),
         conformation: &[Sym2],
         prescribed: &[bool],
-    ) -> &mut [f64] {
+    ) {
         let inputs = SurfaceInputs {
             list,
             sums,
@@ -248,6 +290,27 @@ impl FreeSurfaceStage {
             };
             let at = (list, points);
             tension.add_jump(at, motion, &self.surface, trusted, &mut self.dirichlet);
+        }
+    }
+
+    /// Step 5, after [`Self::dirichlet_pressure`]: under a blended indicator each FS
+    /// particle's Dirichlet value becomes `s·p_D + (1 − s)·pⁿ` with its weight s and its
+    /// last pressure `pressure` ([`SurfaceIndicator::Blended`]); nothing under a sharp one.
+    /// Then the values, for the projection to shift to its unknown.
+    pub fn blend_with_pressure(&mut self, pressure: &[f64]) -> &mut [f64] {
+        if self.surface.blend_width > 0.0 {
+            let surface = &self.surface;
+            self.dirichlet
+                .par_iter_mut()
+                .zip(pressure.par_iter())
+                .enumerate()
+                .filter(|(i, _)| surface.on_surface[*i])
+                .for_each(|(i, (value, &last))| {
+                    let s = surface.weight(i);
+                    if s < 1.0 {
+                        *value = s * *value + (1.0 - s) * last;
+                    }
+                });
         }
         &mut self.dirichlet
     }
@@ -340,6 +403,7 @@ mod tests {
             time_level: CapillaryTimeLevel::Predicted,
             shear: SurfaceShear::Truncated,
             gradient: SurfaceGradient::Full,
+            indicator: SurfaceIndicator::Sharp,
         };
         let mut stage = FreeSurfaceStage::new(options, 0.0, 0.1, None);
         stage.surface.on_surface = vec![true, true, false, true];
@@ -395,6 +459,36 @@ mod tests {
         let mut v = into.clone();
         four_over_a_wall(ContactRows::Surface).hold_off_walls(&mut v);
         assert_eq!(v, into);
+    }
+
+    /// Under a blended indicator an FS particle's Dirichlet value is `s·p_D + (1 − s)·pⁿ`:
+    /// pⁿ where (36) has only just taken it in (s = 0), the mean half-way up the ramp
+    /// (s = ½ at margin BLEND_WIDTH/2), p_D from the ramp's top on and on exposed
+    /// particles (margin +∞); interior rows and every row under a sharp indicator keep their
+    /// values.
+    #[test]
+    fn blended_dirichlet_values_start_from_the_last_pressure() {
+        let blended = |indicator: SurfaceIndicator| {
+            let options = SurfaceOptions {
+                pressure: SurfacePressure::NormalStress,
+                contact_rows: ContactRows::Surface,
+                time_level: CapillaryTimeLevel::Predicted,
+                shear: SurfaceShear::Truncated,
+                gradient: SurfaceGradient::Full,
+                indicator,
+            };
+            let mut stage = FreeSurfaceStage::new(options, 0.0, 0.1, None);
+            stage.surface.on_surface = vec![true, true, true, true, false];
+            let half = 0.5 * BLEND_WIDTH;
+            stage.surface.margin = vec![0.0, half, BLEND_WIDTH, f64::INFINITY, -0.3];
+            stage.dirichlet = vec![-4.0; 5];
+            stage.blend_with_pressure(&[2.0; 5]).to_vec()
+        };
+        assert_eq!(
+            blended(SurfaceIndicator::Blended),
+            vec![2.0, -1.0, -4.0, -4.0, -4.0]
+        );
+        assert_eq!(blended(SurfaceIndicator::Sharp), vec![-4.0; 5]);
     }
 
     /// Under `held` every surface particle within δr/4 of the wall (3, at 0.2δr) loses its

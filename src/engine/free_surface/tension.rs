@@ -196,8 +196,9 @@ fn at_surface(kappa: f64, offset: f64) -> f64 {
 /// away from its outward normal, as on a drop). Only FS neighbours facing the same way
 /// (n_j·n_i > 1/2) count, so the far side of a thin thread does not. Near a contact line
 /// (`lines`, see [`super::wetting`]) the surface beyond the contact particle is its
-/// continuation at the contact angle instead of whatever lies there. None with fewer than
-/// three points or a degenerate fit.
+/// continuation at the contact angle instead of whatever lies there. Each neighbour's
+/// weight is W times its FS weight ([`FreeSurface::weight`]: 1 unless the surface indicator
+/// is blended). None with fewer than three points or a degenerate fit.
 fn fitted_curvature(
     i: usize,
     (list, lag): (&NeighbourList, Lag),
@@ -210,9 +211,9 @@ fn fitted_curvature(
     fit.add(Vec2::zeros());
     let contact = lines.and_then(|l| contact_of(i, (list, lag), surface, l));
     let real_side = |r: Vec2| contact.is_none_or(|(c, line, _)| line.on_real_side(r - c));
-    for (_, r) in facing_surface(i, (list, lag), surface, ni) {
+    for (j, r) in facing_surface(i, (list, lag), surface, ni) {
         if real_side(r) {
-            fit.add(r);
+            fit.add_weighted(r, surface.weight(j));
         }
     }
     if let Some((rc, line, c)) = contact {
@@ -297,7 +298,13 @@ impl<'a> ParabolaFit<'a> {
     /// A surface point at `r` from the particle, weighted by W(|r|) (none beyond the
     /// support).
     fn add(&mut self, r: Vec2) {
-        let w = self.kernel.value(r.norm());
+        self.add_weighted(r, 1.0);
+    }
+
+    /// A surface point weighted by W(|r|) times `extra` (its FS weight,
+    /// [`FreeSurface::weight`]).
+    fn add_weighted(&mut self, r: Vec2, extra: f64) {
+        let w = extra * self.kernel.value(r.norm());
         if w <= 0.0 {
             return;
         }

@@ -614,13 +614,14 @@ impl Simulation {
             st.pressure.divergence(hood, &st.velocity_star);
             let dirichlet = st.free_surface.as_mut().map(|fs| {
                 let factor = st.shear_viscosity.as_ref().map_or(&[][..], |v| v.factor());
-                let values = fs.dirichlet_pressure(
+                fs.dirichlet_pressure(
                     (hood.0, hood.1, &st.hood.points),
                     (fluid, factor),
                     (st.pressure.velocity_star_ext(), (&s.velocity, ahead)),
                     &s.conformation,
                     buffer,
                 );
+                let values = fs.blend_with_pressure(&s.pressure);
                 st.projection.dirichlet_for_unknown(values, &s.pressure);
                 fs.choose_rows(hood.0, &st.hood.points, hood.2);
                 fs.dirichlet()
