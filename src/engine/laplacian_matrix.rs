@@ -99,6 +99,20 @@ impl LaplacianMatrix {
         self.data.truncate(total);
     }
 
+    /// Row i of the last assembly becomes `(1 − s)·(row i) + s·D·e_i`, D its diagonal, which
+    /// it returns: a Poisson row blended with a Dirichlet row scaled like it.
+    pub fn blend_with_identity(&mut self, i: usize, s: f64) -> f64 {
+        let row = self.indptr[i]..self.indptr[i + 1];
+        let at = row.start
+            + self.indices[row.clone()]
+                .binary_search(&i)
+                .expect("every assembled row holds its diagonal");
+        let diagonal = self.data[at];
+        self.data[row].iter_mut().for_each(|v| *v *= 1.0 - s);
+        self.data[at] += s * diagonal;
+        diagonal
+    }
+
     /// Heap bytes held by the matrix buffers and the solver workspace.
     pub fn heap_bytes(&self) -> usize {
         use std::mem::size_of;
@@ -355,6 +369,49 @@ mod tests {
                     "{kind:?} row {i}"
                 );
             }
+        }
+    }
+
+    /// A blended row is (1 − s) times the Poisson row plus s times its diagonal on the
+    /// diagonal: every other row, and the row's sum's sign, unchanged; s = 1 leaves the
+    /// diagonal alone (a scaled Dirichlet row).
+    #[test]
+    fn a_blended_row_mixes_the_poisson_row_with_its_scaled_identity() {
+        let fixture::WalledLattice {
+            list, sums, ghosts, ..
+        } = fixture::walled_lattice(8);
+        let assemble = || {
+            let mut m = LaplacianMatrix::default();
+            m.assemble(&list, &sums, &ghosts, Field::Pressure, 0.0, -1.0, &[], &[]);
+            m
+        };
+        let plain = assemble();
+        let (i, s) = (5, 0.3);
+        let mut blended = assemble();
+        let diagonal = blended.blend_with_identity(i, s);
+        let mut full = assemble();
+        let full_diagonal = full.blend_with_identity(i, 1.0);
+        assert_eq!(diagonal, full_diagonal);
+        assert!(diagonal > 0.0);
+        for (k, (&col, &value)) in plain.indices.iter().zip(&plain.data).enumerate() {
+            let row = plain.indptr.partition_point(|&start| start <= k) - 1;
+            let expected = match (row == i, col == i) {
+                (false, _) => value,
+                (true, false) => (1.0 - s) * value,
+                (true, true) => (1.0 - s) * value + s * diagonal,
+            };
+            assert!(
+                (blended.data[k] - expected).abs() <= 1e-15 * diagonal,
+                "{row}, {col}"
+            );
+            let at_one = if row != i {
+                value
+            } else if col == i {
+                diagonal
+            } else {
+                0.0
+            };
+            assert_eq!(full.data[k], at_one, "{row}, {col}");
         }
     }
 }

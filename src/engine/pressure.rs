@@ -9,7 +9,10 @@
 //!
 //! With a free surface, the rows of FS particles become `p_i = p_D,i`, the inhomogeneous
 //! Dirichlet condition of the normal-stress balance (35a) (or p = 0); the matrix is then
-//! non-singular and non-symmetric (BiCGStab does not need symmetry).
+//! non-singular and non-symmetric (BiCGStab does not need symmetry). Under a blended surface
+//! indicator a particle on (36)'s ramp takes a row between the two,
+//! `(1 − s)·(Poisson row) + s·D_i·(p_i − p_D,i) = 0` with D_i its Poisson row's diagonal
+//! ([`SurfaceRows::blended`]).
 
 use crate::engine::boundary::Field;
 use crate::engine::boundary::Ghosts;
@@ -23,17 +26,40 @@ use crate::engine::state::Scales;
 use rayon::prelude::*;
 use rheosph_solver::{NullSpace, SolveError, SolveReport, SolverOptions, Strategy};
 
+/// The free surface's rows of the PPE (all empty without a free surface).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SurfaceRows<'a> {
+    /// Rows replaced by the Dirichlet row `p_i = p_D,i`.
+    pub dirichlet: &'a [bool],
+    /// p_D of every row (zero off the surface), already shifted to the PPE's unknown.
+    pub values: &'a [f64],
+    /// Rows `(i, s)` that are s times a Dirichlet row scaled by their Poisson diagonal and
+    /// (1 − s) times their Poisson row, 0 < s < 1 (a blended surface indicator).
+    pub blended: &'a [(usize, f64)],
+}
+
+impl SurfaceRows<'_> {
+    /// Whether any row pins the pressure's level (otherwise it is defined up to a constant).
+    pub fn pin_level(&self) -> bool {
+        !self.blended.is_empty() || self.dirichlet.iter().any(|&r| r)
+    }
+}
+
 /// The PPE matrix, its right-hand side, and the solver.
 #[derive(Default)]
 pub struct PressureSystem {
     matrix: LaplacianMatrix,
     rhs: Vec<f64>,
+    /// The blended rows of the last assembly: `(i, s, D_i)` with D_i the diagonal of row i's
+    /// Poisson row.
+    blended: Vec<(usize, f64, f64)>,
 }
 
 impl PressureSystem {
     /// Heap bytes held (matrix, right-hand side, solver workspace).
     pub fn heap_bytes(&self) -> usize {
-        self.matrix.heap_bytes() + crate::engine::vec_bytes(&self.rhs)
+        use crate::engine::vec_bytes as b;
+        self.matrix.heap_bytes() + b(&self.rhs) + b(&self.blended)
     }
 
     pub fn new() -> Self {
@@ -76,6 +102,24 @@ impl PressureSystem {
             surface,
             &[],
         );
+    }
+
+    /// After [`Self::assemble_matrix`], which gave the `blended` rows Poisson rows: each
+    /// becomes `(1 − s)·(Poisson row) + s·D_i·e_i` ([`SurfaceRows::blended`]).
+    pub fn blend_matrix_rows(&mut self, blended: &[(usize, f64)]) {
+        self.blended.clear();
+        for &(i, s) in blended {
+            let diagonal = self.matrix.blend_with_identity(i, s);
+            self.blended.push((i, s, diagonal));
+        }
+    }
+
+    /// After the right-hand side is complete: a blended row's becomes
+    /// `(1 − s)·b_i + s·D_i·p_D,i` (`values`: p_D of every row).
+    pub fn blend_rhs_rows(&mut self, values: &[f64]) {
+        for &(i, s, diagonal) in &self.blended {
+            self.rhs[i] = (1.0 - s) * self.rhs[i] + s * diagonal * values[i];
+        }
     }
 
     /// Number of stored matrix entries of the last assembly.
@@ -167,32 +211,35 @@ impl PressureStage {
         &self.velocity_ext
     }
 
-    /// Step 5: the matrix (when the particles moved) and the right-hand side, with Dirichlet
-    /// rows where `rows` is set (both empty without a free surface).
+    /// Step 5: the matrix (when the particles moved, or a row is blended) and the right-hand
+    /// side, with the free surface's `rows`; with `wall_pressure` (the pressure itself, not
+    /// an increment) the ghosts' offsets of
+    /// [`WallPressure::Momentum`](crate::engine::boundary::WallPressure) are moved to the
+    /// right-hand side ([`wall_pressure_rhs`]) of every row but the Dirichlet ones.
     pub fn assemble(
         &mut self,
         hood: (&NeighbourList, &KernelSums, &Ghosts),
         density: f64,
         dt: f64,
-        (rows, values): (&[bool], &[f64]),
+        rows: SurfaceRows,
+        wall_pressure: bool,
     ) {
-        if self.matrix_stale {
-            self.system
-                .assemble_matrix(hood.0, hood.1, hood.2, density, rows);
+        // A blended row's weight changes with (36)'s margin even where the particles
+        // stand still (an Eulerian frame), and so does a row that was blended last step.
+        if !rows.blended.is_empty() || !self.system.blended.is_empty() {
+            self.matrix_stale = true;
         }
-        self.system.assemble_rhs(&self.divergence, dt, rows, values);
-    }
-
-    /// Step 5, for the pressure itself (not an increment): the ghosts' offsets of
-    /// [`WallPressure::Momentum`](crate::engine::boundary::WallPressure) moved to the
-    /// right-hand side ([`wall_pressure_rhs`]). Dirichlet rows (`rows`) keep their value.
-    pub fn add_wall_pressure(
-        &mut self,
-        hood: (&NeighbourList, &KernelSums, &Ghosts),
-        density: f64,
-        rows: &[bool],
-    ) {
-        wall_pressure_rhs(hood, density, rows, &mut self.system.rhs);
+        if self.matrix_stale {
+            let system = &mut self.system;
+            system.assemble_matrix(hood.0, hood.1, hood.2, density, rows.dirichlet);
+            system.blend_matrix_rows(rows.blended);
+        }
+        let system = &mut self.system;
+        system.assemble_rhs(&self.divergence, dt, rows.dirichlet, rows.values);
+        if wall_pressure {
+            wall_pressure_rhs(hood, density, rows.dirichlet, &mut system.rhs);
+        }
+        system.blend_rhs_rows(rows.values);
     }
 
     /// Step 5: solves for `unknown` (its initial guess on entry). `dirichlet`: some rows are

@@ -49,8 +49,8 @@ use crate::engine::kernel::QuinticSpline;
 use crate::engine::math::{Sym2, Vec2};
 use crate::engine::neighbours::NeighbourList;
 use crate::engine::operators::KernelSums;
+use crate::engine::pressure::SurfaceRows;
 use crate::engine::rheology::Fluid;
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// How a surface tension acts (`scheme.surface_tension`).
@@ -114,10 +114,14 @@ pub enum SurfaceIndicator {
     Sharp,
     /// A particle of FS counts with a weight s rising smoothly from 0 where (36) first takes
     /// it in to 1 at [`BLEND_WIDTH`] further in ([`FreeSurface::weight`]): in its neighbours'
-    /// curvature fits with s times its kernel weight, and in its own Dirichlet value as
-    /// `s·p_D + (1 − s)·pⁿ`, a value that starts from its last pressure and relaxes towards
-    /// (35a) by the fraction s each step. Particles well inside FS (s = 1) are as under
-    /// `Sharp`, and so is a steady state.
+    /// curvature fits with s times its kernel weight, and in its own PPE row as
+    /// `(1 − s)·(Poisson row) + s·D_i·(p_i − p_D,i)`, D_i the Poisson row's diagonal
+    /// ([`crate::engine::pressure::SurfaceRows`]). Particles well inside FS (s = 1) are as
+    /// under `Sharp`.
+    ///
+    /// Blending the Dirichlet value in time instead, `s·p_D + (1 − s)·pⁿ` with a Dirichlet
+    /// row, was measured first and dropped: a particle hovering on the threshold (s ≤ 0.015)
+    /// relaxed towards its own, wrong, p_D over hundreds of steps (README).
     Blended,
 }
 
@@ -163,8 +167,10 @@ pub struct FreeSurfaceStage {
     dirichlet: Vec<f64>,
     contact_rows: ContactRows,
     /// The PPE's Dirichlet rows: the surface, less a wall's first half-spacing under
-    /// [`ContactRows::Wall`].
+    /// [`ContactRows::Wall`] and the rows on a blended indicator's ramp.
     rows: Vec<bool>,
+    /// The rows on the ramp of [`SurfaceIndicator::Blended`], with their weights s in (0, 1).
+    blended: Vec<(usize, f64)>,
     /// The surface particles in a wall's first half-spacing that keep their Dirichlet rows
     /// (under [`ContactRows::Wall`] those that join no interior row, a splash on the wall;
     /// under [`ContactRows::Held`] all within δr/4), with the wall's normal into the fluid.
@@ -198,6 +204,7 @@ impl FreeSurfaceStage {
             dirichlet: Vec::new(),
             contact_rows,
             rows: Vec::new(),
+            blended: Vec::new(),
             held: Vec::new(),
             wall_holds: 0,
             spacing,
@@ -215,6 +222,7 @@ impl FreeSurfaceStage {
         self.surface.heap_bytes()
             + crate::engine::vec_bytes(&self.dirichlet)
             + crate::engine::vec_bytes(&self.rows)
+            + crate::engine::vec_bytes(&self.blended)
             + crate::engine::vec_bytes(&self.held)
             + self.rule.heap_bytes()
             + self.tension.as_ref().map_or(0, SurfaceTension::heap_bytes)
@@ -293,25 +301,9 @@ impl FreeSurfaceStage {
         }
     }
 
-    /// Step 5, after [`Self::dirichlet_pressure`]: under a blended indicator each FS
-    /// particle's Dirichlet value becomes `s·p_D + (1 − s)·pⁿ` with its weight s and its
-    /// last pressure `pressure` ([`SurfaceIndicator::Blended`]); nothing under a sharp one.
-    /// Then the values, for the projection to shift to its unknown.
-    pub fn blend_with_pressure(&mut self, pressure: &[f64]) -> &mut [f64] {
-        if self.surface.blend_width > 0.0 {
-            let surface = &self.surface;
-            self.dirichlet
-                .par_iter_mut()
-                .zip(pressure.par_iter())
-                .enumerate()
-                .filter(|(i, _)| surface.on_surface[*i])
-                .for_each(|(i, (value, &last))| {
-                    let s = surface.weight(i);
-                    if s < 1.0 {
-                        *value = s * *value + (1.0 - s) * last;
-                    }
-                });
-        }
+    /// Step 5, after [`Self::dirichlet_pressure`]: the Dirichlet values, for the projection
+    /// to shift to its unknown.
+    pub fn values_mut(&mut self) -> &mut [f64] {
         &mut self.dirichlet
     }
 
@@ -331,9 +323,17 @@ impl FreeSurfaceStage {
         self.rows.clear();
         self.rows.extend_from_slice(on_surface);
         self.held.clear();
-        if self.contact_rows == ContactRows::Surface {
-            return;
+        if self.contact_rows != ContactRows::Surface {
+            self.leave_walls(list, points, ghosts);
         }
+        self.blend_ramp_rows();
+    }
+
+    /// Under [`ContactRows::Wall`] and [`ContactRows::Held`]: which surface particles in a
+    /// wall's first half-spacing lose their Dirichlet rows or are held (see
+    /// [`Self::choose_rows`]).
+    fn leave_walls(&mut self, list: &NeighbourList, points: &[Vec2], ghosts: &Ghosts) {
+        let on_surface = &self.surface.on_surface;
         let keep_rows = self.contact_rows == ContactRows::Held;
         // A wetting foot at rest stands ~0.44δr above the plate: held from δr/2, the
         // R/δr = 20 drop at θ = 40° chattered (speeds to 0.02σ/η) and threw a particle out at
@@ -361,6 +361,24 @@ impl FreeSurfaceStage {
         }
     }
 
+    /// Under a blended indicator, the Dirichlet rows on the ramp (s < 1) become blended rows
+    /// (s > 0) or Poisson rows (s = 0).
+    fn blend_ramp_rows(&mut self) {
+        self.blended.clear();
+        if self.surface.blend_width <= 0.0 {
+            return;
+        }
+        for (i, row) in self.rows.iter_mut().enumerate().filter(|(_, r)| **r) {
+            let s = self.surface.weight(i);
+            if s < 1.0 {
+                *row = false;
+                if s > 0.0 {
+                    self.blended.push((i, s));
+                }
+            }
+        }
+    }
+
     /// After the projection: a surface particle in a wall's first half-spacing that kept
     /// its Dirichlet row (see [`Self::choose_rows`]) loses its velocity into the wall, the
     /// no-penetration condition u·n = 0 that the PPE imposes on every other particle there
@@ -377,10 +395,14 @@ impl FreeSurfaceStage {
         }
     }
 
-    /// The Dirichlet rows of the PPE and their values, after [`Self::dirichlet_pressure`]
-    /// and [`Self::choose_rows`].
-    pub fn dirichlet(&self) -> (&[bool], &[f64]) {
-        (&self.rows, &self.dirichlet)
+    /// The PPE's surface rows and their values, after [`Self::dirichlet_pressure`] and
+    /// [`Self::choose_rows`].
+    pub fn dirichlet(&self) -> SurfaceRows<'_> {
+        SurfaceRows {
+            dirichlet: &self.rows,
+            values: &self.dirichlet,
+            blended: &self.blended,
+        }
     }
 
     /// The PPE rows that are Dirichlet rows.
@@ -461,14 +483,13 @@ mod tests {
         assert_eq!(v, into);
     }
 
-    /// Under a blended indicator an FS particle's Dirichlet value is `s·p_D + (1 − s)·pⁿ`:
-    /// pⁿ where (36) has only just taken it in (s = 0), the mean half-way up the ramp
-    /// (s = ½ at margin BLEND_WIDTH/2), p_D from the ramp's top on and on exposed
-    /// particles (margin +∞); interior rows and every row under a sharp indicator keep their
-    /// values.
+    /// Under a blended indicator an FS particle on the ramp takes a Poisson row where (36)
+    /// has only just taken it in (s = 0), a blended row half-way up (s = ½ at margin
+    /// BLEND_WIDTH/2), and a Dirichlet row from the ramp's top on and on exposed particles
+    /// (margin +∞); under a sharp indicator every FS particle takes a Dirichlet row.
     #[test]
-    fn blended_dirichlet_values_start_from_the_last_pressure() {
-        let blended = |indicator: SurfaceIndicator| {
+    fn blended_rows_lie_on_the_ramp_only() {
+        let choose = |indicator: SurfaceIndicator| {
             let options = SurfaceOptions {
                 pressure: SurfacePressure::NormalStress,
                 contact_rows: ContactRows::Surface,
@@ -481,14 +502,26 @@ mod tests {
             stage.surface.on_surface = vec![true, true, true, true, false];
             let half = 0.5 * BLEND_WIDTH;
             stage.surface.margin = vec![0.0, half, BLEND_WIDTH, f64::INFINITY, -0.3];
-            stage.dirichlet = vec![-4.0; 5];
-            stage.blend_with_pressure(&[2.0; 5]).to_vec()
+            let list = NeighbourList {
+                offsets: vec![0; 6],
+                index: Vec::new(),
+                rij: Vec::new(),
+            };
+            stage.choose_rows(&list, &[Vec2::zeros(); 5], &Ghosts::default());
+            let rows = stage.dirichlet();
+            (
+                rows.dirichlet.to_vec(),
+                rows.blended.to_vec(),
+                rows.pin_level(),
+            )
         };
-        assert_eq!(
-            blended(SurfaceIndicator::Blended),
-            vec![2.0, -1.0, -4.0, -4.0, -4.0]
-        );
-        assert_eq!(blended(SurfaceIndicator::Sharp), vec![-4.0; 5]);
+        let (rows, blended, pinned) = choose(SurfaceIndicator::Blended);
+        assert_eq!(rows, vec![false, false, true, true, false]);
+        assert_eq!(blended, vec![(1, 0.5)]);
+        assert!(pinned);
+        let (rows, blended, _) = choose(SurfaceIndicator::Sharp);
+        assert_eq!(rows, vec![true, true, true, true, false]);
+        assert!(blended.is_empty());
     }
 
     /// Under `held` every surface particle within δr/4 of the wall (3, at 0.2δr) loses its

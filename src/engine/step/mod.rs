@@ -621,22 +621,20 @@ impl Simulation {
                     &s.conformation,
                     buffer,
                 );
-                let values = fs.blend_with_pressure(&s.pressure);
-                st.projection.dirichlet_for_unknown(values, &s.pressure);
+                st.projection
+                    .dirichlet_for_unknown(fs.values_mut(), &s.pressure);
                 fs.choose_rows(hood.0, &st.hood.points, hood.2);
                 fs.dirichlet()
             });
-            let dirichlet = dirichlet.unwrap_or((&[], &[]));
-            st.pressure.assemble(hood, fluid.density, dt, dirichlet);
-            if st.projection.kind == Projection::Standard {
-                st.pressure
-                    .add_wall_pressure(hood, fluid.density, dirichlet.0);
-            }
+            let rows = dirichlet.unwrap_or_default();
+            let wall_pressure = st.projection.kind == Projection::Standard;
+            st.pressure
+                .assemble(hood, fluid.density, dt, rows, wall_pressure);
         });
         let dirichlet = st
             .free_surface
             .as_ref()
-            .is_some_and(|fs| fs.rows().iter().any(|&r| r));
+            .is_some_and(|fs| fs.dirichlet().pin_level());
         let unknown = st
             .projection
             .unknown(&mut s.pressure, self.scheme.ppe.warm_start);
