@@ -117,3 +117,25 @@ fn a_pool_rises_at_the_wall_by_the_meniscus_height() {
         "rise {rise}, exact {exact}"
     );
 }
+
+/// `scene.wall_contact_angle` is range-checked like `scene.contact_angle`, and refused by the
+/// cohesion variant, whose wall attraction takes one angle at every wall.
+#[test]
+fn the_tank_walls_angle_is_validated() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/capillary-rise.toml");
+    let bad = |o: &[&str]| {
+        let o: Vec<String> = o.iter().map(|s| s.to_string()).collect();
+        rheosph::setup::case::load(&path, &o)
+            .unwrap_err()
+            .to_string()
+    };
+    assert!(bad(&["scene.wall_contact_angle=170"]).contains("scene.wall_contact_angle"));
+    let cohesion = [
+        "scene.wall_contact_angle=90",
+        "scheme.method=wcsph",
+        "scheme.surface_tension=cohesion",
+    ];
+    assert!(bad(&cohesion).contains("scene.wall_contact_angle"));
+    let o = vec!["scene.wall_contact_angle=90".to_string()];
+    assert!(rheosph::setup::case::load(&path, &o).is_ok());
+}

@@ -116,6 +116,15 @@ pub fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
             "the cohesion force needs the weakly compressible scheme (scheme.method = \"wcsph\"): with the projection the drop's surface rows do not hold its cohesive pressure",
         ));
     }
+    let own_wall_angle = scene
+        .pool()
+        .is_some_and(|p| p.wall_contact_angle != p.contact_angle);
+    if own_wall_angle && scheme.surface_tension == SurfaceTensionForm::Cohesion {
+        return Err(field_err(
+            "scene.wall_contact_angle",
+            "the cohesion force's wall attraction takes one contact angle at every wall: leave scene.wall_contact_angle out",
+        ));
+    }
     if scheme.surface_shear == SurfaceShear::ShearFree
         && !(scene.has_free_surface() && scheme.method == Method::Projection)
     {

@@ -134,6 +134,7 @@ impl Disc {
         Wall {
             shape: Shape::Circle(self.circle),
             condition: Arc::new(self.condition(tensor)),
+            contact_angle: None,
         }
     }
 

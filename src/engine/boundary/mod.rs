@@ -29,6 +29,9 @@ use std::sync::Arc;
 pub struct Wall {
     pub shape: Shape,
     pub condition: Arc<dyn WallCondition>,
+    /// The angle (radians, through the liquid) a free surface with surface tension meets
+    /// this wall at where it is not the scene's (`Setup::contact_angle`).
+    pub contact_angle: Option<f64>,
 }
 
 impl Wall {
@@ -37,6 +40,7 @@ impl Wall {
         Self {
             shape,
             condition: Arc::new(NoSlip { tensor }),
+            contact_angle: None,
         }
     }
 
@@ -48,6 +52,7 @@ impl Wall {
         Self {
             shape,
             condition: Arc::new(SlidingNoSlip { tensor, velocity }),
+            contact_angle: None,
         }
     }
 
@@ -79,6 +84,7 @@ impl Wall {
                 first: (pa, a.condition.clone()),
                 second: (pb, b.condition.clone()),
             }),
+            contact_angle: None,
         })
     }
 

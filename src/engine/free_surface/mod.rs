@@ -126,9 +126,13 @@ pub enum SurfaceIndicator {
 }
 
 /// The ramp of [`SurfaceIndicator::Blended`] in ⟨∇·r⟩ (full support: 2; a flat surface's
-/// first row ≈ 1.22, its second ≈ 1.74, against (36)'s threshold of 1.3–1.4): about ten
-/// percent of the FS particles of the capillary rise at rest lie on it.
-pub const BLEND_WIDTH: f64 = 0.1;
+/// first row ≈ 1.22, its second ≈ 1.74, against (36)'s threshold of 1.3–1.4). It need only
+/// span how far a particle's ⟨∇·r⟩ wanders while it sits on the threshold: 0.007 for the
+/// particle that hovered there at θ = 60° (`cases/capillary-rise.toml`). At 0.1, 17–23 of
+/// the ~205 FS particles of the rising column lay on it, half of them below s = ½: surface
+/// particles whose half-Poisson rows let the pool be kicked (speeds 0.8–0.96 by t = 4, the
+/// wall's meniscus down to 0.01 by t = 10); at 0.03, 0–7, and the rise is calm (README).
+pub const BLEND_WIDTH: f64 = 0.03;
 
 impl SurfaceIndicator {
     /// The ramp's width in ⟨∇·r⟩ (0: sharp).

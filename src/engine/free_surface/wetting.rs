@@ -61,13 +61,19 @@ impl ContactLine {
     }
 }
 
-/// The contact angle of a scene at its flat walls, and the contact lines of the last step.
-#[derive(Clone, Debug)]
-pub struct Wetting {
+/// A wall and the contact angle at its flat faces (cos θ, sin θ).
+#[derive(Clone, Copy, Debug)]
+struct WettedWall {
+    shape: Shape,
     cos: f64,
     sin: f64,
-    /// The walls the angle holds at (only their flat faces count, [`Shape::face`]).
-    walls: Vec<Shape>,
+}
+
+/// The contact angles of a scene at its flat walls, and the contact lines of the last step.
+#[derive(Clone, Debug)]
+pub struct Wetting {
+    /// The walls the angles hold at (only their flat faces count, [`Shape::face`]).
+    walls: Vec<WettedWall>,
     /// How near a wall an FS particle must be to be a contact particle: 1.5δr (the first
     /// layer's centres are δr/2 from the wall). Within δr, a drop beading towards 120°
     /// (R/δr = 20) lost its contact lines at t ≈ 2: its lowest FS particle stood 1.1δr above
@@ -82,9 +88,20 @@ impl Wetting {
     /// The angle `theta` (radians, through the liquid) at the flat faces of `walls`, for
     /// particles of spacing `spacing`.
     pub fn new(theta: f64, walls: Vec<Shape>, spacing: f64) -> Self {
+        Self::per_wall(walls.into_iter().map(|w| (w, theta)).collect(), spacing)
+    }
+
+    /// Each wall's own angle (radians, through the liquid) at its flat faces.
+    pub fn per_wall(walls: Vec<(Shape, f64)>, spacing: f64) -> Self {
+        let walls = walls
+            .into_iter()
+            .map(|(shape, theta)| WettedWall {
+                shape,
+                cos: theta.cos(),
+                sin: theta.sin(),
+            })
+            .collect();
         Self {
-            cos: theta.cos(),
-            sin: theta.sin(),
             walls,
             reach: 1.5 * spacing,
             lines: Vec::new(),
@@ -113,11 +130,11 @@ impl Wetting {
     /// The contact line of an FS particle at `p` with normal (39) `n`, at the nearest flat
     /// face in reach.
     fn line(&self, p: &Vec2, n: Vec2) -> Option<ContactLine> {
-        let (distance, wall_normal) = self
+        let (distance, wall_normal, wall) = self
             .walls
             .iter()
-            .filter_map(|w| w.face(p))
-            .filter(|&(d, _)| d >= 0.0 && d < self.reach)
+            .filter_map(|w| w.shape.face(p).map(|(d, normal)| (d, normal, w)))
+            .filter(|&(d, _, _)| d >= 0.0 && d < self.reach)
             .min_by(|a, b| a.0.total_cmp(&b.0))?;
         let tangent = Vec2::new(-wall_normal.y, wall_normal.x);
         let toward_gas = n.dot(&tangent);
@@ -125,7 +142,7 @@ impl Wetting {
             return None;
         }
         let t_w = tangent * toward_gas.signum();
-        let m = wall_normal * self.cos + t_w * self.sin;
+        let m = wall_normal * wall.cos + t_w * wall.sin;
         let mut along = Vec2::new(-m.y, m.x);
         if along.dot(&wall_normal) < 0.0 {
             along = -along;
@@ -205,5 +222,23 @@ mod tests {
         assert!(w
             .line(&Vec2::new(0.05, 1.0), Vec2::new(-1.0, 0.05))
             .is_none());
+    }
+
+    /// Each wall keeps its own angle: 30° at x = 0, 90° (neutral) at x = 1, where the
+    /// surface meets the wall square, m along the wall.
+    #[test]
+    fn each_wall_has_its_own_angle() {
+        let right = Shape::Plane(Plane {
+            axis: 0,
+            position: 1.0,
+            fluid_side: -1.0,
+        });
+        let (wetting, neutral) = (30f64.to_radians(), 90f64.to_radians());
+        let w = Wetting::per_wall(vec![(vertical_wall(), wetting), (right, neutral)], 0.1);
+        let up = Vec2::new(0.0, 1.0);
+        let left = w.line(&Vec2::new(0.05, 1.0), Vec2::new(0.3, 1.0).normalize());
+        assert!((left.unwrap().normal - Vec2::new(wetting.cos(), wetting.sin())).norm() < 1e-12);
+        let line = w.line(&Vec2::new(0.95, 1.0), Vec2::new(0.3, 1.0).normalize());
+        assert!((line.unwrap().normal - up).norm() < 1e-12);
     }
 }

@@ -157,8 +157,10 @@ impl Simulation {
         });
         // The contact angle holds at the scene's walls, not at the discs' (added below).
         let wetting = setup.contact_angle.filter(|_| !cohesive).map(|theta| {
-            let shapes = walls.iter().map(|w| w.shape).collect();
-            Wetting::new(theta, shapes, setup.spacing)
+            let angles = walls
+                .iter()
+                .map(|w| (w.shape, w.contact_angle.unwrap_or(theta)));
+            Wetting::per_wall(angles.collect(), setup.spacing)
         });
         let bodies = Bodies::new(
             (setup.discs, setup.contact, setup.gravity),

@@ -96,6 +96,7 @@ impl Cavity {
                     speed: self.lid_velocity,
                     length: l,
                 }),
+                contact_angle: None,
             },
         };
         let bottom = Wall::no_slip(plane(1, 0.0, 1.0), tensor);

@@ -39,6 +39,10 @@ pub struct PoolSpec {
     pub body_force: [f64; 2],
     /// θ in degrees, through the liquid, at every wall.
     pub contact_angle: f64,
+    /// θ in degrees at the tank's two side walls, if not `contact_angle` (90: the level
+    /// surface meets them square, without a meniscus).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wall_contact_angle: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub plates: Option<PlatesTable>,
 }
@@ -62,8 +66,10 @@ pub struct Pool {
     pub bounds: SceneBox,
     pub depth: f64,
     pub gravity: Vec2,
-    /// θ in radians.
+    /// θ in radians (the plates' and the floor's).
     pub contact_angle: f64,
+    /// θ in radians at the tank's side walls.
+    pub wall_contact_angle: f64,
     /// The two plates (left, right), if any.
     pub plates: Option<[Plate; 2]>,
 }
@@ -84,6 +90,10 @@ impl PoolSpec {
         check_memory(length * depth / (dr * dr))?;
         let gravity = finite_force(self.body_force)?;
         let theta = in_range("scene.contact_angle", self.contact_angle, 15.0, 165.0)?;
+        let wall_theta = match self.wall_contact_angle {
+            Some(a) => in_range("scene.wall_contact_angle", a, 15.0, 165.0)?,
+            None => theta,
+        };
         let plates = self
             .plates
             .as_ref()
@@ -98,6 +108,7 @@ impl PoolSpec {
             depth,
             gravity,
             contact_angle: theta.to_radians(),
+            wall_contact_angle: wall_theta.to_radians(),
             plates,
         })
     }
@@ -174,8 +185,11 @@ impl Pool {
             )
         };
         let floor = plane(1, 0.0, 1.0);
-        let left = plane(0, -half, 1.0);
-        let right = plane(0, half, -1.0);
+        let side = |position, fluid_side| Wall {
+            contact_angle: Some(self.wall_contact_angle),
+            ..plane(0, position, fluid_side)
+        };
+        let (left, right) = (side(-half, 1.0), side(half, -1.0));
         let corners = [(&floor, &left), (&floor, &right)]
             .map(|(a, b)| Wall::corner(a, b).expect("perpendicular planes meet in a corner"));
         let mut walls = vec![floor, left, right];

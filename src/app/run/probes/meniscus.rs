@@ -53,11 +53,20 @@ pub struct MeniscusRow {
 pub struct MeniscusSummary {
     pub contact_angle_degrees: f64,
     pub capillary_length: f64,
-    /// ℓ_c √(2(1 − sin θ)), negative for θ > 90°.
+    /// ℓ_c √(2(1 − sin θ)), negative for θ > 90°, with θ the tank walls' angle.
     pub wall_rise_exact: f64,
-    /// The mean over the tank's walls (and the plates' outer faces).
+    /// The mean over the tank's two walls.
     pub wall_rise: f64,
-    pub wall_rise_relative_error: f64,
+    /// None at a neutral wall (θ = 90°: no rise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub wall_rise_relative_error: Option<f64>,
+    /// The same at the plates' outer faces, with their angle (with plates).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub plate_rise_exact: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub plate_rise: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub plate_rise_relative_error: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub jurin_height: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -171,10 +180,19 @@ impl MeniscusProbe {
         }
     }
 
-    /// ℓ_c √(2(1 − sin θ)), with the sign of cos θ.
+    /// ℓ_c √(2(1 − sin θ)) at the tank's walls, with the sign of cos θ.
     pub fn wall_rise_exact(&self) -> f64 {
-        let theta = self.pool.contact_angle;
-        self.capillary_length * (2.0 * (1.0 - theta.sin())).sqrt() * theta.cos().signum()
+        self.rise_exact(self.pool.wall_contact_angle)
+    }
+
+    /// ℓ_c √(2(1 − sin θ)) at a single wall of angle θ, with the sign of cos θ.
+    fn rise_exact(&self, theta: f64) -> f64 {
+        let rise = self.capillary_length * (2.0 * (1.0 - theta.sin())).sqrt();
+        if theta.cos().abs() < 1e-12 {
+            0.0
+        } else {
+            rise * theta.cos().signum()
+        }
     }
 
     /// Jurin's 2σ cos θ/(ρgd), with plates.
@@ -192,12 +210,11 @@ impl MeniscusProbe {
         let mean =
             |f: &dyn Fn(&MeniscusRow) -> f64| late.iter().map(f).sum::<f64>() / late.len() as f64;
         let plates = self.pool.plates.is_some();
-        let wall_rise = if plates {
-            mean(&|r| 0.25 * (r.wall[0] + r.wall[1] + r.plate[0] + r.plate[1]))
-        } else {
-            mean(&|r| 0.5 * (r.wall[0] + r.wall[1]))
-        };
+        let wall_rise = mean(&|r| 0.5 * (r.wall[0] + r.wall[1]));
+        let plate_rise = plates.then(|| mean(&|r| 0.5 * (r.plate[0] + r.plate[1])));
         let exact = self.wall_rise_exact();
+        let plate_exact = plates.then(|| self.rise_exact(self.pool.contact_angle));
+        let relative = |rise: f64, exact: f64| (exact != 0.0).then(|| rise / exact - 1.0);
         let jurin = self.jurin_height();
         let gap_mean = plates.then(|| mean(&|r| r.gap_mean));
         let watched = |r: &MeniscusRow| {
@@ -218,7 +235,12 @@ impl MeniscusProbe {
             capillary_length: self.capillary_length,
             wall_rise_exact: exact,
             wall_rise,
-            wall_rise_relative_error: wall_rise / exact - 1.0,
+            wall_rise_relative_error: relative(wall_rise, exact),
+            plate_rise_exact: plate_exact,
+            plate_rise,
+            plate_rise_relative_error: plate_rise
+                .zip(plate_exact)
+                .and_then(|(r, e)| relative(r, e)),
             jurin_height: jurin,
             gap_mean_rise: gap_mean,
             gap_mean_rise_relative_error: gap_mean.zip(jurin).map(|(g, j)| g / j - 1.0),
