@@ -87,11 +87,13 @@ pub struct Wetting {
 impl Wetting {
     /// The angle `theta` (radians, through the liquid) at the flat faces of `walls`, for
     /// particles of spacing `spacing`.
+    #[cfg(test)]
     pub fn new(theta: f64, walls: Vec<Shape>, spacing: f64) -> Self {
         Self::per_wall(walls.into_iter().map(|w| (w, theta)).collect(), spacing)
     }
 
-    /// Each wall's own angle (radians, through the liquid) at its flat faces.
+    /// Each wall's own angle (radians, through the liquid) at its flat faces, for particles
+    /// of spacing `spacing`.
     pub fn per_wall(walls: Vec<(Shape, f64)>, spacing: f64) -> Self {
         let walls = walls
             .into_iter()
