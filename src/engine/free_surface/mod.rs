@@ -408,11 +408,6 @@ impl FreeSurfaceStage {
             blended: &self.blended,
         }
     }
-
-    /// The PPE rows that are Dirichlet rows.
-    pub fn rows(&self) -> &[bool] {
-        &self.rows
-    }
 }
 
 #[cfg(test)]
@@ -461,7 +456,7 @@ mod tests {
     /// particle and every row under `surface` keep theirs.
     #[test]
     fn contact_line_particles_take_interior_rows_only_under_wall() {
-        let rows = |contact| four_over_a_wall(contact).rows().to_vec();
+        let rows = |contact| four_over_a_wall(contact).dirichlet().dirichlet.to_vec();
         assert_eq!(rows(ContactRows::Wall), vec![false, true, false, true]);
         assert_eq!(rows(ContactRows::Surface), vec![true, true, false, true]);
         assert_eq!(rows(ContactRows::Held), vec![true, true, false, true]);
