@@ -25,6 +25,14 @@ fn run(dir: &Path, sets: &[&str]) {
     assert!(status.success(), "run failed: {status}");
 }
 
+/// The wall seconds recorded in a run directory's checkpoint (its JSON header).
+fn checkpoint_wall_seconds(dir: &Path) -> f64 {
+    let bytes = std::fs::read(dir.join("checkpoint.bin")).unwrap();
+    let n = u64::from_le_bytes(bytes[..8].try_into().unwrap()) as usize;
+    let header: serde_json::Value = serde_json::from_slice(&bytes[8..8 + n]).unwrap();
+    header["wall_seconds"].as_f64().unwrap_or(0.0)
+}
+
 fn summary(dir: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap()
 }
@@ -48,6 +56,8 @@ fn resumed_run_matches_uninterrupted() {
     for f in ["case.toml", "checkpoint.bin", "series.csv"] {
         std::fs::copy(a.join(f), b.join(f)).unwrap();
     }
+    let before = checkpoint_wall_seconds(&b);
+    assert!(before > 0.0, "the checkpoint records no wall time");
     let status = rheosph()
         .args(["-q", "run", "--no-snapshots", "--no-charts", "--resume"])
         .arg(&b)
@@ -59,6 +69,23 @@ fn resumed_run_matches_uninterrupted() {
     let (sa, sb) = (summary(&a), summary(&b));
     assert_eq!(sa["steps"], sb["steps"]);
     assert_eq!(sa["t_reached"], sb["t_reached"]);
+    // The resumed run's wall time covers the segment before the checkpoint (80 % of the run
+    // here), not only its own; so does its per-stage breakdown.
+    let wall = sb["wall_seconds"].as_f64().unwrap();
+    assert!(
+        wall >= before,
+        "wall {wall} s < {before} s before the checkpoint"
+    );
+    let staged: f64 = sb["stage_seconds"]
+        .as_object()
+        .unwrap()
+        .values()
+        .filter_map(|v| v.as_f64())
+        .sum();
+    assert!(
+        staged >= 0.5 * before,
+        "stages {staged} s, {before} s before"
+    );
     assert_eq!(
         std::fs::read_to_string(a.join("centreline.csv")).unwrap(),
         std::fs::read_to_string(b.join("centreline.csv")).unwrap()

@@ -353,6 +353,14 @@ pub struct LoopState {
     /// The probes' own state, by name.
     #[serde(default)]
     pub probes: std::collections::BTreeMap<String, serde_json::Value>,
+    /// Wall seconds the run had spent up to this checkpoint, over all its segments (0 in
+    /// checkpoints written before it was recorded).
+    #[serde(default)]
+    pub wall_seconds: f64,
+    /// The per-stage timing up to this checkpoint, so a resumed run's breakdown covers the
+    /// whole run.
+    #[serde(default)]
+    pub stage_seconds: crate::engine::timing::StageSeconds,
 }
 
 /// Writes the checkpoint file: the loop state and the simulation, atomically.

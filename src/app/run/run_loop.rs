@@ -39,6 +39,8 @@ pub struct Run<'a> {
     breakdown: Option<String>,
     progress: ProgressBar,
     start: Instant,
+    /// Wall seconds of the segments before this one (a resumed run).
+    wall_before: f64,
     last_flush: Instant,
 }
 
@@ -99,6 +101,7 @@ impl<'a> Run<'a> {
             breakdown: None,
             progress: summary::progress_bar(options.quiet, case.end_time),
             start: Instant::now(),
+            wall_before: 0.0,
             last_flush: Instant::now(),
         };
         match start {
@@ -135,6 +138,8 @@ impl<'a> Run<'a> {
         self.window = st.window;
         self.totals = st.totals;
         self.last_dt = st.last_dt;
+        self.wall_before = st.wall_seconds;
+        self.sim.timers = st.stage_seconds;
         if let Some(series) = self.snapshots.as_mut() {
             series.restore_entries(st.snapshots);
         }
@@ -260,6 +265,8 @@ impl<'a> Run<'a> {
                 .map(|s| s.entries().to_vec())
                 .unwrap_or_default(),
             probes: self.probes.checkpoint(),
+            wall_seconds: self.wall_seconds(),
+            stage_seconds: self.sim.timers,
         };
         checkpoint::save(&self.options.out_dir, &state, &self.sim)?;
         self.sim.reset_preconditioners();
@@ -334,13 +341,18 @@ impl<'a> Run<'a> {
         Ok(summary)
     }
 
+    /// Wall seconds of the whole run so far, the segments before a resume included.
+    fn wall_seconds(&self) -> f64 {
+        self.wall_before + self.start.elapsed().as_secs_f64()
+    }
+
     fn summary(
         &self,
         errors: errors::Errors,
         probes: std::collections::BTreeMap<&'static str, serde_json::Value>,
     ) -> Summary {
         let sim = &self.sim;
-        let wall_seconds = self.start.elapsed().as_secs_f64();
+        let wall_seconds = self.wall_seconds();
         let (steps, particles) = (sim.state.steps, sim.particles());
         let totals = &self.totals;
         Summary {
