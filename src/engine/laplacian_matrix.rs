@@ -197,7 +197,10 @@ fn assemble_row(
     let mut diagonal = d;
     for k in list.range(i) {
         let j = list.index[k] as usize;
-        let mut w = c * sums.laplacian_weight(list, k);
+        let mut w = c * match field {
+            Field::Pressure => sums.ppe_weight(list, k),
+            Field::Velocity => sums.laplacian_weight(list, k),
+        };
         if !factor.is_empty() {
             w *= pair_viscosity(factor[i], factor[j]);
         }

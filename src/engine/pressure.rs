@@ -159,6 +159,9 @@ pub struct PressureStage {
     strategy: Strategy,
     /// u* followed by the ghosts' values.
     velocity_ext: Vec<Vec2>,
+    /// u* extended as the divergence sees it under wall-pressure offsets
+    /// ([`Ghosts::continue_force`](crate::engine::boundary::Ghosts::continue_force)).
+    continued: Vec<Vec2>,
     divergence: Vec<f64>,
     pressure_ext: Vec<f64>,
     gradient: Vec<Vec2>,
@@ -173,6 +176,7 @@ impl PressureStage {
             settings,
             strategy: settings.solver.strategy(frame),
             velocity_ext: Vec::new(),
+            continued: Vec::new(),
             divergence: Vec::new(),
             pressure_ext: Vec::new(),
             gradient: Vec::new(),
@@ -185,6 +189,7 @@ impl PressureStage {
         use crate::engine::vec_bytes as b;
         self.system.heap_bytes()
             + b(&self.velocity_ext)
+            + b(&self.continued)
             + b(&self.divergence)
             + b(&self.pressure_ext)
             + b(&self.gradient)
@@ -195,15 +200,28 @@ impl PressureStage {
         self.matrix_stale = true;
     }
 
-    /// Step 5: ∇·u* (negative form of (20)), with u* extended to the ghosts.
+    /// Step 5: ∇·u* (negative form of (20)), with u* extended to the ghosts. With
+    /// `wall_pressure` = Some(δt/ρ) (the PPE solves for the pressure itself, whose ghosts
+    /// carry the offsets of [`WallPressure::Momentum`](crate::engine::boundary::WallPressure)),
+    /// the ghosts' u* carry the force the offsets balance
+    /// ([`Ghosts::continue_force`](crate::engine::boundary::Ghosts::continue_force));
+    /// [`Self::velocity_star_ext`] stays the plain mirror.
     pub fn divergence(
         &mut self,
         (list, sums, ghosts): (&NeighbourList, &KernelSums, &Ghosts),
         velocity_star: &[Vec2],
+        wall_pressure: Option<f64>,
     ) {
         ghosts.extend_velocity(velocity_star, &mut self.velocity_ext);
         self.divergence.resize(velocity_star.len(), 0.0);
-        sums.divergence(list, &self.velocity_ext, &mut self.divergence);
+        match wall_pressure.filter(|_| !ghosts.pressure_offsets().is_empty()) {
+            Some(dt_over_rho) => {
+                self.continued.clone_from(&self.velocity_ext);
+                ghosts.continue_force(dt_over_rho, &mut self.continued);
+                sums.divergence(list, &self.continued, &mut self.divergence);
+            }
+            None => sums.divergence(list, &self.velocity_ext, &mut self.divergence),
+        }
     }
 
     /// u* followed by the ghosts' values, after [`Self::divergence`].
@@ -333,7 +351,7 @@ pub fn wall_pressure_rhs(
             let constant: f64 = list
                 .range(i)
                 .filter(|&k| list.index[k] as usize >= n)
-                .map(|k| sums.laplacian_weight(list, k) * offsets[list.index[k] as usize - n])
+                .map(|k| sums.ppe_weight(list, k) * offsets[list.index[k] as usize - n])
                 .sum();
             *b -= constant / density;
         });

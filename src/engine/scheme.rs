@@ -54,6 +54,8 @@ pub struct Scheme {
     pub gradient_order: GradientOrder,
     /// Consistency order of the Laplacian of eq. (21).
     pub laplacian_order: LaplacianOrder,
+    /// The PPE's Laplacian: (21) as `laplacian_order` has it, or made exact for linear fields.
+    pub ppe_laplacian: crate::engine::operators::PpeLaplacian,
     /// Free surfaces: the Dirichlet pressure rule.
     pub free_surface_pressure: SurfacePressure,
     /// Free surfaces: the neighbours of the normal-stress rule's velocity gradient.

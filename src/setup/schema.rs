@@ -294,6 +294,9 @@ pub struct SchemeSpec {
     /// `first` (Morris, eq. (21)) or `second` (exact for quadratic fields, after Nasar et al.
     /// 2021): the Laplacian of the PPE and the viscous term.
     pub laplacian_order: LaplacianOrder,
+    /// `standard` (the Laplacian of `laplacian_order`) or `linear-exact` (that Laplacian made
+    /// exact for linear fields where the support is truncated): the PPE's Laplacian.
+    pub ppe_laplacian: crate::engine::operators::PpeLaplacian,
     /// `auto`, `standard` or `incremental` pressure projection.
     pub projection: ProjectionChoice,
     /// Free surfaces: `normal-stress` (35a) or `zero` Dirichlet pressure.
@@ -375,6 +378,7 @@ impl Default for SchemeSpec {
             wall_pressure: WallPressure::Neumann,
             gradient_order: GradientOrder::First,
             laplacian_order: LaplacianOrder::First,
+            ppe_laplacian: crate::engine::operators::PpeLaplacian::Standard,
             projection: ProjectionChoice::Auto,
             free_surface_pressure: SurfacePressure::NormalStress,
             surface_gradient: SurfaceGradient::Full,

@@ -414,6 +414,7 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
         wall_pressure: s.wall_pressure,
         gradient_order: s.gradient_order,
         laplacian_order: s.laplacian_order,
+        ppe_laplacian: s.ppe_laplacian,
         free_surface_pressure: s.free_surface_pressure,
         surface_gradient: s.surface_gradient,
         contact_line_rows: s.contact_line_rows,

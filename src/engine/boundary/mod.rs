@@ -127,6 +127,8 @@ pub struct Ghosts {
     /// c_g of `p_g = s_p p_k + c_g` for the pressure itself, set each step under
     /// [`WallPressure::Momentum`] (empty: homogeneous Neumann; see [`wall_pressure`]).
     pressure_offset: Vec<f64>,
+    /// n·f_k of each ghost's offset (0 where none), for [`Self::continue_force`].
+    normal_force: Vec<f64>,
     /// The box whose periodic axes circles are seen across (None: no periodic images).
     pub domain: Option<Domain>,
     /// δr of the fixed ghost lattice behind every wall (None: mirrors).
@@ -156,6 +158,7 @@ impl Ghosts {
             + b(&self.normal)
             + b(&self.offset)
             + b(&self.pressure_offset)
+            + b(&self.normal_force)
             + b(&self.near)
             + b(&self.lattice_ghosts)
             + b(&self.built_shapes)
@@ -209,6 +212,7 @@ impl Ghosts {
         self.normal.clear();
         self.offset.clear();
         self.pressure_offset.clear();
+        self.normal_force.clear();
         self.built_shapes.clear();
         self.built_shapes.extend(self.walls.iter().map(|w| w.shape));
         let moving = self.walls.iter().any(|w| w.condition.moves());
@@ -264,6 +268,7 @@ impl Ghosts {
     pub fn refresh(&mut self, points: &mut Vec<Vec2>) {
         let moving = self.walls.iter().any(|w| w.condition.moves());
         self.pressure_offset.clear();
+        self.normal_force.clear();
         for g in 0..self.parent.len() {
             let wall = &self.walls[self.wall[g] as usize];
             let parent = points[self.parent[g] as usize];

@@ -173,6 +173,7 @@ impl Simulation {
         let mut hood = Neighbourhood::new(ghosts);
         hood.sums.order = scheme.gradient_order;
         hood.sums.laplacian_order = scheme.laplacian_order;
+        hood.sums.ppe_laplacian = scheme.ppe_laplacian;
         // Free surfaces take the positive divergence form of (20) with L = I.
         let form = if setup.free_surface {
             DivergenceForm::Positive
@@ -613,7 +614,9 @@ impl Simulation {
         };
         self.timers.time(Stage::PpeAssembly, || {
             let hood = st.hood.parts();
-            st.pressure.divergence(hood, &st.velocity_star);
+            let wall_pressure = st.projection.kind == Projection::Standard;
+            let continued = wall_pressure.then_some(dt / fluid.density);
+            st.pressure.divergence(hood, &st.velocity_star, continued);
             let dirichlet = st.free_surface.as_mut().map(|fs| {
                 let factor = st.shear_viscosity.as_ref().map_or(&[][..], |v| v.factor());
                 fs.dirichlet_pressure(
@@ -629,7 +632,6 @@ impl Simulation {
                 fs.dirichlet()
             });
             let rows = dirichlet.unwrap_or_default();
-            let wall_pressure = st.projection.kind == Projection::Standard;
             st.pressure
                 .assemble(hood, fluid.density, dt, rows, wall_pressure);
         });
