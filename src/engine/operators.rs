@@ -117,6 +117,13 @@ impl KernelSums {
             + crate::engine::vec_bytes(&self.ppe_weights)
     }
 
+    /// The operators' variants, chosen once from the scheme.
+    pub fn configure(&mut self, scheme: &crate::engine::scheme::Scheme) {
+        self.order = scheme.gradient_order;
+        self.laplacian_order = scheme.laplacian_order;
+        self.ppe_laplacian = scheme.ppe_laplacian;
+    }
+
     /// Recomputes pair factors, L_i and ∇Ŵ_ij for the current neighbour list.
     pub fn update(&mut self, list: &NeighbourList, kernel: &QuinticSpline, dv: f64) {
         self.update_with_volumes(list, kernel, dv, &[]);

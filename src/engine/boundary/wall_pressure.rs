@@ -155,7 +155,10 @@ mod tests {
         let u_star = vec![dt_over_rho * f; 2];
         let mut ext = Vec::new();
         ghosts.extend_velocity(&u_star, &mut ext);
-        assert!((ext[2].y + u_star[0].y).abs() < 1e-15, "the mirror reverses it");
+        assert!(
+            (ext[2].y + u_star[0].y).abs() < 1e-15,
+            "the mirror reverses it"
+        );
         ghosts.continue_force(dt_over_rho, &mut ext);
         for g in &ext[2..] {
             assert!((g.y - dt_over_rho * f.y).abs() < 1e-15, "normal: {g:?}");

@@ -171,9 +171,7 @@ impl Simulation {
         let mut ghosts = Ghosts::new(walls);
         ghosts.set_model(scheme.wall_model, setup.spacing);
         let mut hood = Neighbourhood::new(ghosts);
-        hood.sums.order = scheme.gradient_order;
-        hood.sums.laplacian_order = scheme.laplacian_order;
-        hood.sums.ppe_laplacian = scheme.ppe_laplacian;
+        hood.sums.configure(&scheme);
         // Free surfaces take the positive divergence form of (20) with L = I.
         let form = if setup.free_surface {
             DivergenceForm::Positive
