@@ -273,6 +273,24 @@ fn bad_input_is_one_clear_line_and_exit_code_2() {
     assert_eq!(o.status.code(), Some(2));
 }
 
+/// `rheosph check` into a reader that has already gone (`… | head -1` after its line) exits
+/// 0 without a panic: the pipe is closed before the binary writes, so its write fails with
+/// EPIPE (the Rust runtime ignores SIGPIPE), which used to panic inside `println!`.
+#[test]
+fn check_into_a_closed_pipe_is_not_a_crash() {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_rheosph"))
+        .args(["check", "cases/poiseuille.toml"])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("binary runs");
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("panicked"), "{err}");
+    assert_eq!(out.status.code(), Some(0), "{err}");
+}
+
 /// A run forced to blow up (δt eight times the viscous limit of eq. (28)) stops cleanly:
 /// outcome `broke_down` with time and reason, exit code 3, and its files intact.
 #[test]

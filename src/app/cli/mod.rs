@@ -141,9 +141,16 @@ fn dispatch(cli: Cli) -> anyhow::Result<u8> {
         }
         Command::Check(args) => {
             let case = case::load(&args.case, &args.set)?;
-            println!("{}: valid", args.case.display());
-            println!("{}", serde_json::to_string_pretty(&case.derived())?);
-            Ok(EXIT_FINISHED)
+            let text = format!(
+                "{}: valid\n{}\n",
+                args.case.display(),
+                serde_json::to_string_pretty(&case.derived())?
+            );
+            // A reader that stops early (`rheosph check … | head`) is not an error.
+            match std::io::Write::write_all(&mut std::io::stdout().lock(), text.as_bytes()) {
+                Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(e.into()),
+                _ => Ok(EXIT_FINISHED),
+            }
         }
     }
 }
