@@ -204,7 +204,7 @@ impl KernelSums {
                     // SAFETY: as above, row i only.
                     let lap = unsafe { laplacian.row(offsets, i) };
                     for ((w, g), r) in lap.iter_mut().zip(grad_hat.iter()).zip(rij) {
-                        *w = 2.0 * r.dot(g) / r.norm_squared() * dv;
+                        *w = morris_weight(r, g, dv);
                     }
                     second_order_row((grad_hat, lap), factor, rij, (h, dv), second);
                 }
@@ -216,7 +216,7 @@ impl KernelSums {
                         ppe.copy_from_slice(unsafe { laplacian.row(offsets, i) });
                     } else {
                         for ((w, g), r) in ppe.iter_mut().zip(grad_hat.iter()).zip(rij) {
-                            *w = 2.0 * r.dot(g) / r.norm_squared() * dv;
+                            *w = morris_weight(r, g, dv);
                         }
                     }
                     if inverse.is_some() {
@@ -341,8 +341,7 @@ impl KernelSums {
         if !self.laplacian.is_empty() {
             return self.laplacian[k];
         }
-        let r = list.rij[k];
-        2.0 * r.dot(&self.grad_hat[k]) / r.norm_squared() * self.dv
+        morris_weight(&list.rij[k], &self.grad_hat[k], self.dv)
     }
 
     /// Advective derivative `(v·∇)T` of a symmetric tensor, with the gradient of eq. (20):
@@ -480,6 +479,12 @@ fn second_order_row(
             *w = -(d[2] + d[4]) * dv;
         }
     }
+}
+
+/// Morris's weight of a pair in eq. (21), `2 r_ij·∇Ŵ_ij δV/|r_ij|²`.
+#[inline]
+fn morris_weight(r: &Vec2, grad_hat: &Vec2, dv: f64) -> f64 {
+    2.0 * r.dot(grad_hat) / r.norm_squared() * dv
 }
 
 /// Makes one particle's Laplacian weights w_k (of `Σ_k w_k (φ_i − φ_j)`, eq. (21)) exact

@@ -108,10 +108,8 @@ mod tests {
     use super::*;
     use crate::engine::boundary::{Circle, Plane, Shape, TensorMirror, Wall};
 
-    /// A pressure that is linear across a plane wall, p = p0 + f y, is carried exactly by
-    /// the mirrors when f is the normal force density; homogeneous mirrors carry p0 + f y_i.
-    #[test]
-    fn mirrors_continue_the_normal_gradient_of_the_balance() {
+    /// Two particles over the no-slip floor y = 0, mirrored: the fluid points, then the ghosts.
+    fn two_over_a_floor() -> (Ghosts, Vec<Vec2>) {
         let plane = Shape::Plane(Plane {
             axis: 1,
             position: 0.0,
@@ -120,6 +118,14 @@ mod tests {
         let mut ghosts = Ghosts::new(vec![Wall::no_slip(plane, TensorMirror::Even)]);
         let mut points = vec![Vec2::new(0.3, 0.05), Vec2::new(0.7, 0.12)];
         ghosts.build(0.2, &mut points);
+        (ghosts, points)
+    }
+
+    /// A pressure that is linear across a plane wall, p = p0 + f y, is carried exactly by
+    /// the mirrors when f is the normal force density; homogeneous mirrors carry p0 + f y_i.
+    #[test]
+    fn mirrors_continue_the_normal_gradient_of_the_balance() {
+        let (mut ghosts, points) = two_over_a_floor();
         assert_eq!(ghosts.len(), 2);
         let (p0, f) = (2.0, -3.0);
         let pressure: Vec<f64> = points[..2].iter().map(|r| p0 + f * r.y).collect();
@@ -142,14 +148,7 @@ mod tests {
     /// tangential part keeps the mirror's sign (the offsets carry no tangential gradient).
     #[test]
     fn continued_ghosts_carry_the_force_increment() {
-        let plane = Shape::Plane(Plane {
-            axis: 1,
-            position: 0.0,
-            fluid_side: 1.0,
-        });
-        let mut ghosts = Ghosts::new(vec![Wall::no_slip(plane, TensorMirror::Even)]);
-        let mut points = vec![Vec2::new(0.3, 0.05), Vec2::new(0.7, 0.12)];
-        ghosts.build(0.2, &mut points);
+        let (mut ghosts, points) = two_over_a_floor();
         let (f, dt_over_rho) = (Vec2::new(5.0, -3.0), 0.1);
         ghosts.set_pressure_gradient(&points, &[f, f]);
         let u_star = vec![dt_over_rho * f; 2];
