@@ -139,3 +139,54 @@ fn the_tank_walls_angle_is_validated() {
     let o = vec!["scene.wall_contact_angle=90".to_string()];
     assert!(rheosph::setup::case::load(&path, &o).is_ok());
 }
+
+/// A pool at rest (2 wide, 0.4 deep, δr = 0.04, θ = 90°, σ ≈ 0, implicit viscosity) with the
+/// body force in the reduced pressure (`scheme.gravity = "reduced-pressure"`) stays at rest to
+/// t = 5: P = p − ρ g·r is constant, which every operator reproduces, so nothing is left to
+/// move it but the solves' residuals (measured: level moved < 1e-6, speeds ≤ 1e-6, in the
+/// 6-wide tank to t = 20). Bounds: the level within δr/40 = 1e-3, every speed below 1e-4 (a
+/// ten-thousandth of √(gD)). With g in the predictor the same tank swells (README, *Still
+/// water*: the 6-wide tank's top row rose 0.07 by t = 10), and the validation refuses the
+/// reduced pressure where g·r is not single-valued.
+#[test]
+fn a_pool_at_rest_stays_at_rest_with_gravity_in_the_reduced_pressure() {
+    let still = [
+        "scene.length=2",
+        "scene.depth=0.4",
+        "scene.height=0.8",
+        "scene.resolution=20",
+        "scene.contact_angle=90",
+        "fluid.surface_tension=1e-9",
+        "scheme.viscosity=implicit",
+        "scheme.gravity=reduced-pressure",
+        "run.end_time=5",
+    ];
+    let (s, dir) = run_quiet(&shipped("meniscus.toml", &still), false);
+    assert_eq!(s.outcome, Outcome::Finished, "{:?}", s.reason);
+    let level = column(&dir.path().join("meniscus.csv"), "level");
+    let speed = column(&dir.path().join("series.csv"), "max_speed");
+    let moved = (level[level.len() - 1] - level[0]).abs();
+    let fastest = speed.iter().cloned().fold(0.0, f64::max);
+    eprintln!("level moved {moved:.2e}, largest speed {fastest:.2e}");
+    assert!(moved < 1e-3, "level moved {moved}");
+    assert!(fastest < 1e-4, "largest speed {fastest}");
+
+    // The channel's body force drives it along its periodic axis.
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/poiseuille.toml");
+    let o = vec!["scheme.gravity=reduced-pressure".to_string()];
+    let refused = rheosph::setup::case::load(&path, &o)
+        .unwrap_err()
+        .to_string();
+    assert!(refused.contains("scheme.gravity"), "{refused}");
+}
+
+/// A column of a CSV file by its header name.
+fn column(path: &std::path::Path, name: &str) -> Vec<f64> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let k = header.iter().position(|h| *h == name).unwrap();
+    lines
+        .map(|l| l.split(',').nth(k).unwrap().parse().unwrap())
+        .collect()
+}

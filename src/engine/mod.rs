@@ -9,6 +9,7 @@ pub mod boundary;
 pub mod drive;
 pub mod frame;
 pub mod free_surface;
+pub mod gravity;
 pub mod kernel;
 pub mod kinematics;
 pub mod laplacian_matrix;

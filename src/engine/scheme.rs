@@ -48,6 +48,8 @@ pub struct Scheme {
     pub wall_conformation: TensorMirror,
     /// Mirrors or a fixed ghost lattice behind plane walls.
     pub wall_model: WallModel,
+    /// Where the body force enters: the predictor or a reduced pressure.
+    pub gravity: crate::engine::gravity::Gravity,
     /// The Neumann condition of the wall pressure: ∂p/∂n = 0 or the normal momentum balance.
     pub wall_pressure: WallPressure,
     /// Consistency order of the corrected gradient of eq. (20)–(22).

@@ -287,6 +287,9 @@ pub struct SchemeSpec {
     /// `neumann` (∂p/∂n = 0, the paper's) or `momentum` (∂p/∂n = n·(∇·Φ + ρg), see
     /// `engine::boundary::wall_pressure`): the pressure the wall ghosts carry.
     pub wall_pressure: WallPressure,
+    /// `predictor` (g in the predictor (24), the paper's) or `reduced-pressure` (a uniform g
+    /// absorbed into P = p − ρ g·r, exact for a liquid at rest; see `engine::gravity`).
+    pub gravity: crate::engine::gravity::Gravity,
     /// `first` (Bonet–Lok, eq. (22)) or `second` (exact for quadratic fields, after Nasar et
     /// al. 2021): the corrected gradient of every first-derivative operator (the Laplacian
     /// keeps the first-order one).
@@ -376,6 +379,7 @@ impl Default for SchemeSpec {
             wall_conformation: TensorMirror::Even,
             wall_model: WallModel::Mirror,
             wall_pressure: WallPressure::Neumann,
+            gravity: crate::engine::gravity::Gravity::Predictor,
             gradient_order: GradientOrder::First,
             laplacian_order: LaplacianOrder::First,
             ppe_laplacian: crate::engine::operators::PpeLaplacian::Standard,

@@ -67,6 +67,7 @@ impl Case {
     }
 }
 use crate::engine::boundary::WallModel;
+use crate::engine::gravity::Gravity;
 use crate::engine::kinematics::ConstitutiveGradient;
 use crate::engine::rheology::ConformationIntegrator;
 use crate::engine::viscosity::Viscosity;
@@ -412,6 +413,7 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
         wall_conformation: s.wall_conformation,
         wall_model: s.wall_model,
         wall_pressure: s.wall_pressure,
+        gravity: gravity(s, scene)?,
         gradient_order: s.gradient_order,
         laplacian_order: s.laplacian_order,
         ppe_laplacian: s.ppe_laplacian,
@@ -428,6 +430,27 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
 }
 
 /// The step factor and the PPE's stopping rule: positive, in range.
+/// `scheme.gravity = "reduced-pressure"` needs g·r single-valued and fixed in time (see
+/// `engine::gravity`).
+fn gravity(s: &SchemeSpec, scene: &dyn Scene) -> Result<Gravity, FieldError> {
+    if s.gravity == Gravity::Predictor {
+        return Ok(s.gravity);
+    }
+    let why = if s.method != MethodChoice::Isph {
+        Some("the weakly compressible scheme's pressure comes from its equation of state, which a reduced pressure would shift: use `predictor`")
+    } else if scene.holds_mean_flow() || scene.discs() > 0 {
+        Some("the body force here changes in time (mean-flow control or a disc's held return flow), and the reduced pressure needs a fixed one: use `predictor`")
+    } else if (0..2).any(|a| scene.periodic()[a] && scene.body_force()[a] != 0.0) {
+        Some("the body force has a component along a periodic axis, where g·r is not single-valued: use `predictor`")
+    } else {
+        None
+    };
+    match why {
+        Some(why) => Err(field_err("scheme.gravity", why)),
+        None => Ok(s.gravity),
+    }
+}
+
 fn solver_numbers(s: &SchemeSpec) -> Result<(), FieldError> {
     if !(s.dt_factor.is_finite() && s.dt_factor > 0.0) {
         return Err(field_err(

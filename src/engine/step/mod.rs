@@ -383,16 +383,19 @@ impl Simulation {
         self.neighbourhoods();
         self.kinematics(dt);
         self.constitutive_update(dt);
+        self.reduce_pressure(-1.0);
         self.wall_pressure();
-        let viscous_iterations = self.predictor(dt)?;
-        let ppe = if self.stages.weak.is_some() {
-            self.continuity(dt);
-            None
-        } else {
+        let projected = self.predictor(dt).and_then(|iterations| {
+            if self.stages.weak.is_some() {
+                self.continuity(dt);
+                return Ok((iterations, None));
+            }
             let report = self.pressure_poisson(dt)?;
             self.projection(dt);
-            Some(report)
-        };
+            Ok((iterations, Some(report)))
+        });
+        self.reduce_pressure(1.0);
+        let (viscous_iterations, ppe) = projected?;
         let density_deviation = self
             .stages
             .weak
@@ -420,6 +423,19 @@ impl Simulation {
             density_deviation,
             sound_speed: self.stages.weak.as_ref().map_or(0.0, |w| w.sound_speed()),
         })
+    }
+
+    /// Under `scheme.gravity = "reduced-pressure"`, the state's p becomes P = p − ρ g·r* for
+    /// steps 4–6 (`sign` −1) and p again after them (+1); nothing otherwise.
+    fn reduce_pressure(&mut self, sign: f64) {
+        let (s, gravity) = (&mut self.state, self.scheme.gravity);
+        let rho_g = self.fluid.density * s.body_force;
+        let points = &self.stages.hood.points[..s.pressure.len()];
+        if sign < 0.0 {
+            gravity.reduce(&mut s.pressure, points, rho_g);
+        } else {
+            gravity.restore(&mut s.pressure, points, rho_g);
+        }
     }
 
     /// After step 7: the discs' loads from the new state, then their motion.
@@ -532,7 +548,7 @@ impl Simulation {
     fn predictor(&mut self, dt: f64) -> Result<usize, Breakdown> {
         let (st, s) = (&mut self.stages, &self.state);
         let inv_rho = 1.0 / self.fluid.density;
-        let body_force = s.body_force;
+        let body_force = self.scheme.gravity.predictor_force(s.body_force);
         let factor = st.shear_viscosity.as_ref().map_or(&[][..], |v| v.factor());
         let fluid = &self.fluid;
         let kernel = &self.kernel;
@@ -604,6 +620,7 @@ impl Simulation {
     /// Step 5: the pressure Poisson equation (25), with Dirichlet rows on a free surface.
     fn pressure_poisson(&mut self, dt: f64) -> Result<rheosph_solver::SolveReport, Breakdown> {
         let (st, s, fluid) = (&mut self.stages, &mut self.state, &self.fluid);
+        let (gravity, rho_g) = (self.scheme.gravity, fluid.density * s.body_force);
         let buffer = buffer_flags(&self.inflow);
         let ahead = if self.scheme.frame.moves_particles() {
             dt
@@ -624,6 +641,8 @@ impl Simulation {
                     &s.conformation,
                     buffer,
                 );
+                let n = s.pressure.len();
+                gravity.reduce(fs.values_mut(), &st.hood.points[..n], rho_g);
                 st.projection
                     .dirichlet_for_unknown(fs.values_mut(), &s.pressure);
                 fs.choose_rows(hood.0, &st.hood.points, hood.2);
@@ -687,7 +706,8 @@ impl Simulation {
             return;
         };
         let t0 = std::time::Instant::now();
-        let rho_g = self.fluid.density * self.state.body_force;
+        let g = self.scheme.gravity.predictor_force(self.state.body_force);
+        let rho_g = self.fluid.density * g;
         let n = self.state.position.len();
         force.clear();
         match st.conformation.as_ref().filter(|_| st.weak.is_none()) {

@@ -385,6 +385,10 @@ impl Scene for Channel {
         self.cylinder.is_none()
     }
 
+    fn periodic(&self) -> [bool; 2] {
+        self.domain().periodic
+    }
+
     fn holds_mean_flow(&self) -> bool {
         self.mean_flow.is_some()
     }

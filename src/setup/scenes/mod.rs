@@ -166,6 +166,10 @@ pub trait Scene: fmt::Debug + Send + Sync {
     fn varies_across_height(&self) -> bool {
         false
     }
+    /// Which axes (x, y) are periodic.
+    fn periodic(&self) -> [bool; 2] {
+        [false, false]
+    }
     /// Whether the body force is adjusted to hold the bulk velocity.
     fn holds_mean_flow(&self) -> bool {
         false

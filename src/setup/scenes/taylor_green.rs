@@ -88,6 +88,10 @@ impl Scene for TaylorGreen {
         Vec2::zeros()
     }
 
+    fn periodic(&self) -> [bool; 2] {
+        [true, true]
+    }
+
     fn particles(&self) -> usize {
         self.columns * self.bounds.resolution
     }
