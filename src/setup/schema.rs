@@ -138,6 +138,16 @@ pub enum ProjectionChoice {
     Incremental,
 }
 
+/// Where a uniform body force enters (see [`crate::engine::gravity`]).
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum GravityChoice {
+    /// `reduced-pressure` in a pool (a liquid resting on walls), `predictor` elsewhere.
+    Auto,
+    Predictor,
+    ReducedPressure,
+}
+
 /// BiCGStab's preconditioner.
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "kebab-case")]
@@ -288,8 +298,9 @@ pub struct SchemeSpec {
     /// `engine::boundary::wall_pressure`): the pressure the wall ghosts carry.
     pub wall_pressure: WallPressure,
     /// `predictor` (g in the predictor (24), the paper's) or `reduced-pressure` (a uniform g
-    /// absorbed into P = p − ρ g·r, exact for a liquid at rest; see `engine::gravity`).
-    pub gravity: crate::engine::gravity::Gravity,
+    /// absorbed into P = p − ρ g·r, exact for a liquid at rest; see `engine::gravity`);
+    /// `auto` = `reduced-pressure` in a pool, `predictor` elsewhere.
+    pub gravity: GravityChoice,
     /// `first` (Bonet–Lok, eq. (22)) or `second` (exact for quadratic fields, after Nasar et
     /// al. 2021): the corrected gradient of every first-derivative operator (the Laplacian
     /// keeps the first-order one).
@@ -379,7 +390,7 @@ impl Default for SchemeSpec {
             wall_conformation: TensorMirror::Even,
             wall_model: WallModel::Mirror,
             wall_pressure: WallPressure::Neumann,
-            gravity: crate::engine::gravity::Gravity::Predictor,
+            gravity: GravityChoice::Auto,
             gradient_order: GradientOrder::First,
             laplacian_order: LaplacianOrder::First,
             ppe_laplacian: crate::engine::operators::PpeLaplacian::Standard,

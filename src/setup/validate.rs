@@ -75,8 +75,8 @@ use crate::engine::weakly_compressible::{
     sound_speed_for, ArtificialStress, ArtificialViscosity, WeaklyCompressible,
 };
 use crate::setup::schema::{
-    CaseFile, FluidSpec, GradientChoice, IntegratorChoice, MethodChoice, PreconditionerChoice,
-    ProjectionChoice, RunSpec, SchemeSpec,
+    CaseFile, FluidSpec, GradientChoice, GravityChoice, IntegratorChoice, MethodChoice,
+    PreconditionerChoice, ProjectionChoice, RunSpec, SchemeSpec,
 };
 use rheosph_solver::Preconditioner;
 
@@ -430,11 +430,17 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
 }
 
 /// The step factor and the PPE's stopping rule: positive, in range.
-/// `scheme.gravity = "reduced-pressure"` needs g·r single-valued and fixed in time (see
-/// `engine::gravity`).
+/// `scheme.gravity`: `auto` is the reduced pressure in a pool, where a liquid rests on walls
+/// (with g in the predictor a pool at rest swells and climbs its walls: README, *Still
+/// water*), and the paper's predictor elsewhere. `reduced-pressure` needs g·r single-valued
+/// and fixed in time (see `engine::gravity`).
 fn gravity(s: &SchemeSpec, scene: &dyn Scene) -> Result<Gravity, FieldError> {
-    if s.gravity == Gravity::Predictor {
-        return Ok(s.gravity);
+    match s.gravity {
+        GravityChoice::Predictor => return Ok(Gravity::Predictor),
+        GravityChoice::Auto if scene.pool().is_none() || s.method != MethodChoice::Isph => {
+            return Ok(Gravity::Predictor)
+        }
+        _ => {}
     }
     let why = if s.method != MethodChoice::Isph {
         Some("the weakly compressible scheme's pressure comes from its equation of state, which a reduced pressure would shift: use `predictor`")
@@ -447,7 +453,7 @@ fn gravity(s: &SchemeSpec, scene: &dyn Scene) -> Result<Gravity, FieldError> {
     };
     match why {
         Some(why) => Err(field_err("scheme.gravity", why)),
-        None => Ok(s.gravity),
+        None => Ok(Gravity::ReducedPressure),
     }
 }
 
