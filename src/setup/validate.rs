@@ -429,7 +429,6 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
     })
 }
 
-/// The step factor and the PPE's stopping rule: positive, in range.
 /// `scheme.gravity`: `auto` is the reduced pressure in a pool, where a liquid rests on walls
 /// (with g in the predictor a pool at rest swells and climbs its walls: README, *Still
 /// water*), and the paper's predictor elsewhere. `reduced-pressure` needs g·r single-valued
@@ -457,6 +456,7 @@ fn gravity(s: &SchemeSpec, scene: &dyn Scene) -> Result<Gravity, FieldError> {
     }
 }
 
+/// The step factor and the PPE's stopping rule: positive, in range.
 fn solver_numbers(s: &SchemeSpec) -> Result<(), FieldError> {
     if !(s.dt_factor.is_finite() && s.dt_factor > 0.0) {
         return Err(field_err(

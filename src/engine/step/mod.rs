@@ -30,6 +30,7 @@ use crate::engine::free_surface::{
     BodyInputs, Cohesion, DetachedBodies, DetachedMomentum, FreeSurface, FreeSurfaceStage,
     SurfaceTensionForm, Wetting,
 };
+use crate::engine::gravity::Gravity;
 use crate::engine::kernel::QuinticSpline;
 use crate::engine::kinematics::Kinematics;
 use crate::engine::math::{Sym2, Vec2};
@@ -383,7 +384,7 @@ impl Simulation {
         self.neighbourhoods();
         self.kinematics(dt);
         self.constitutive_update(dt);
-        self.reduce_pressure(-1.0);
+        self.shift_pressure(Gravity::reduce);
         self.wall_pressure();
         let projected = self.predictor(dt).and_then(|iterations| {
             if self.stages.weak.is_some() {
@@ -394,7 +395,7 @@ impl Simulation {
             self.projection(dt);
             Ok((iterations, Some(report)))
         });
-        self.reduce_pressure(1.0);
+        self.shift_pressure(Gravity::restore);
         let (viscous_iterations, ppe) = projected?;
         let density_deviation = self
             .stages
@@ -426,16 +427,13 @@ impl Simulation {
     }
 
     /// Under `scheme.gravity = "reduced-pressure"`, the state's p becomes P = p − ρ g·r* for
-    /// steps 4–6 (`sign` −1) and p again after them (+1); nothing otherwise.
-    fn reduce_pressure(&mut self, sign: f64) {
-        let (s, gravity) = (&mut self.state, self.scheme.gravity);
+    /// steps 4–6 (`shift` = [`Gravity::reduce`]) and p again after them
+    /// ([`Gravity::restore`]); nothing otherwise.
+    fn shift_pressure(&mut self, shift: fn(Gravity, &mut [f64], &[Vec2], Vec2)) {
+        let s = &mut self.state;
         let rho_g = self.fluid.density * s.body_force;
         let points = &self.stages.hood.points[..s.pressure.len()];
-        if sign < 0.0 {
-            gravity.reduce(&mut s.pressure, points, rho_g);
-        } else {
-            gravity.restore(&mut s.pressure, points, rho_g);
-        }
+        shift(self.scheme.gravity, &mut s.pressure, points, rho_g);
     }
 
     /// After step 7: the discs' loads from the new state, then their motion.
