@@ -25,14 +25,11 @@
 
 use crate::engine::math::Vec2;
 use rayon::prelude::*;
-use serde::{Deserialize, Serialize};
 
 /// Where the body force enters (module docs).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Gravity {
     /// In the predictor (24), King & Lind's.
-    #[default]
     Predictor,
     /// In the reduced pressure P = p − ρ g·r.
     ReducedPressure,
