@@ -256,21 +256,36 @@ impl FreeSurface {
                     in_cone || (r - dr * normal[i]).norm_squared() < 0.98 * dr * dr
                 });
         });
+        let any = self.join(&exposed);
+        self.exposed = exposed;
+        any
+    }
+
+    /// Puts the particles `flags` marks into FS (margin +∞); whether any was added.
+    fn join(&mut self, flags: &[bool]) -> bool {
         let mut any = false;
-        for ((s, &e), margin) in self
-            .on_surface
-            .iter_mut()
-            .zip(&exposed)
-            .zip(&mut self.margin)
-        {
-            if e {
+        for ((s, &e), margin) in self.on_surface.iter_mut().zip(flags).zip(&mut self.margin) {
+            if e && !*s {
                 *s = true;
                 *margin = f64::INFINITY;
                 any = true;
             }
         }
-        self.exposed = exposed;
         any
+    }
+
+    /// Adds the particles `flags` marks to FS and evaluates NS and the normals again
+    /// (a wall's contact corner, [`crate::engine::free_surface::wetting`]).
+    pub fn add(
+        &mut self,
+        flags: &[bool],
+        list: &NeighbourList,
+        sums: &KernelSums,
+        kernel: &QuinticSpline,
+    ) {
+        if self.join(flags) {
+            self.near_and_normals(list, sums, kernel);
+        }
     }
 }
 

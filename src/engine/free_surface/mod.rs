@@ -250,16 +250,22 @@ impl FreeSurfaceStage {
             .map(|s| s.accelerations(hood, surface, grad_u, viscosity))
     }
 
-    /// Step 2: detection (36)–(37) and normals (38)–(39). Rows in `prescribed` (an inflow
-    /// buffer) take Dirichlet rows and are not near the surface themselves.
+    /// Step 2: detection (36)–(37) and normals (38)–(39), at the positions `points` (fluid
+    /// first); with a contact angle, the walls' contact corners join FS
+    /// ([`Wetting::find_corners`]). Rows in `prescribed` (an inflow buffer) take Dirichlet
+    /// rows and are not near the surface themselves.
     pub fn detect(
         &mut self,
-        list: &NeighbourList,
-        sums: &KernelSums,
+        (list, sums, points): (&NeighbourList, &KernelSums, &[Vec2]),
         kernel: &QuinticSpline,
         prescribed: &[bool],
     ) {
         self.surface.detect(list, sums, kernel);
+        if let Some(w) = self.tension.as_mut().and_then(|t| t.wetting.as_mut()) {
+            if w.find_corners(points, list, &self.surface) {
+                self.surface.add(w.corner_buffer(), list, sums, kernel);
+            }
+        }
         for (i, _) in prescribed.iter().enumerate().filter(|(_, &b)| b) {
             self.surface.on_surface[i] = true;
             self.surface.near_surface[i] = false;

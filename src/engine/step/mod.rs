@@ -500,7 +500,7 @@ impl Simulation {
         self.timers.time(Stage::Kinematics, || {
             let (list, sums, ghosts) = st.hood.parts();
             if let Some(fs) = st.free_surface.as_mut() {
-                fs.detect(list, sums, kernel, buffer);
+                fs.detect((list, sums, &st.hood.points), kernel, buffer);
             }
             st.kinematics.update((list, sums, ghosts), &s.velocity);
             if let Some(v) = st.shear_viscosity.as_mut() {
