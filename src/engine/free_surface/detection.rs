@@ -232,7 +232,6 @@ impl FreeSurface {
     /// Adds the exposed NS particles to FS (module docs); whether any was added.
     fn expose(&mut self, list: &NeighbourList, kernel: &QuinticSpline) -> bool {
         let dr = kernel.h() / crate::engine::kernel::H_OVER_DR;
-        let reach2 = 2.0 * dr * dr;
         let (near, normal, strength) = (&self.near_surface, &self.normal, &self.normal_strength);
         let n = list.rows();
         let wall_reach2 = (WALL_CLEARANCE * dr).powi(2);
@@ -246,15 +245,7 @@ impl FreeSurface {
             *e = near[i]
                 && strength[i] > NEAR_SURFACE_STRENGTH
                 && !by_wall(i)
-                && !list.range(i).any(|k| {
-                    // r_j − r_i (any point, mirrors too: a wall is not a surface).
-                    let r = -list.rij[k];
-                    let r2 = r.norm_squared();
-                    let along = r.dot(&normal[i]);
-                    let in_cone =
-                        r2 < reach2 && along > 0.0 && along * along > CONE_COS * CONE_COS * r2;
-                    in_cone || (r - dr * normal[i]).norm_squared() < 0.98 * dr * dr
-                });
+                && scan_region_empty(list, i, normal[i], dr);
         });
         let any = self.join(&exposed);
         self.exposed = exposed;
@@ -287,6 +278,21 @@ impl FreeSurface {
             self.near_and_normals(list, sums, kernel);
         }
     }
+}
+
+/// Whether the scan region of Marrone et al. (2010) about the unit normal `normal` of
+/// particle i (module docs) holds no neighbour of i (fluid or mirror: a wall is not a
+/// surface), for particles of spacing `dr`.
+pub fn scan_region_empty(list: &NeighbourList, i: usize, normal: Vec2, dr: f64) -> bool {
+    let reach2 = 2.0 * dr * dr;
+    !list.range(i).any(|k| {
+        // r_j − r_i.
+        let r = -list.rij[k];
+        let r2 = r.norm_squared();
+        let along = r.dot(&normal);
+        let in_cone = r2 < reach2 && along > 0.0 && along * along > CONE_COS * CONE_COS * r2;
+        in_cone || (r - dr * normal).norm_squared() < 0.98 * dr * dr
+    })
 }
 
 #[cfg(test)]
