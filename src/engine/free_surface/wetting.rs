@@ -188,13 +188,7 @@ impl Wetting {
             return false;
         }
         let layer = self.spacing;
-        let Some((distance, wall_normal)) = self
-            .walls
-            .iter()
-            .filter_map(|w| w.shape.face(&points[i]))
-            .filter(|&(d, _)| (0.0..layer).contains(&d))
-            .min_by(|a, b| a.0.total_cmp(&b.0))
-        else {
+        let Some((distance, wall_normal, _)) = self.nearest_face(&points[i], layer) else {
             return false;
         };
         let tangent = Vec2::new(-wall_normal.y, wall_normal.x);
@@ -227,15 +221,20 @@ impl Wetting {
         self.lines = lines;
     }
 
+    /// The flat face nearest `p` among those less than `within` from it (on the fluid's
+    /// side): `p`'s distance from it, its unit normal into the fluid and its wall.
+    fn nearest_face(&self, p: &Vec2, within: f64) -> Option<(f64, Vec2, &WettedWall)> {
+        self.walls
+            .iter()
+            .filter_map(|w| w.shape.face(p).map(|(d, normal)| (d, normal, w)))
+            .filter(|&(d, _, _)| (0.0..within).contains(&d))
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+    }
+
     /// The contact line of an FS particle at `p` with normal (39) `n`, at the nearest flat
     /// face in reach.
     fn line(&self, p: &Vec2, n: Vec2) -> Option<ContactLine> {
-        let (distance, wall_normal, wall) = self
-            .walls
-            .iter()
-            .filter_map(|w| w.shape.face(p).map(|(d, normal)| (d, normal, w)))
-            .filter(|&(d, _, _)| d >= 0.0 && d < self.reach)
-            .min_by(|a, b| a.0.total_cmp(&b.0))?;
+        let (distance, wall_normal, wall) = self.nearest_face(p, self.reach)?;
         let tangent = Vec2::new(-wall_normal.y, wall_normal.x);
         let toward_gas = n.dot(&tangent);
         if toward_gas.abs() < MIN_TANGENTIAL {
