@@ -291,3 +291,53 @@ fn rows_of_settling_discs_need_the_added_mass_they_squeeze() {
         );
     }
 }
+
+/// A disc twice the fluid's density settling onto the floor of a Newtonian periodic box
+/// (8R × 8R, R/δr = 8, η = 10, released 1.5R above the floor) under lubrication
+/// (`scene.contact.lubrication`, the cut-off one kernel support, 0.49R). Reynolds'
+/// squeeze law F = 3√2π η (R/s)^{3/2} V gives the approach speed W/f_R at a gap s ≪ R for the
+/// buoyant weight W = 10π. Measured (to t = 50, 385 steps, 16 s on one thread):
+/// * at the first output below s = 0.125R (s = 0.124R, 1δr) V f_R/W = 0.57 (0.55–0.61 for
+///   s = 0.09–0.28R): the total resistance is 1.75× Reynolds', the resolved flow's own part of
+///   the squeeze plus the box's confinement, which the correction adds to. Without the
+///   correction the resolved flow alone gives 1.8 there (2.6 at 0.08R) and a particle under
+///   the disc is squeezed through the floor at t = 32 (s = 0.011R). Bound [0.4, 1]: it must be
+///   the lubricated regime, at most the resolved flow's confinement above Reynolds;
+/// * the gap closes smoothly to 0.0587R at t = 50 (Reynolds: s^{−1/2} grows linearly in
+///   time), never reaching the wall. Bound: > 0.03R;
+/// * the tangential speed and the spin stay at round-off (≤ 1.1e-7): in this gap the load
+///   answers the disc's own sliding several times more strongly than k_V, and without the
+///   coupling's stiffening ([`rheosph::engine::bodies::Coupling::stiffening`]) the disc
+///   rolled away, its speed alternating and doubling every step, and broke down at
+///   t = 49.4. Bound 1e-5.
+#[test]
+fn a_disc_settling_onto_a_wall_is_held_by_lubrication() {
+    let text = "[scene]\nkind = \"channel\"\nlength = 8.0\nheight = 8.0\nresolution = 64\n\
+        gravity = [0.0, -10.0]\n[[scene.discs]]\nradius = 1.0\ncentre = [4.0, 2.5]\n\
+        motion = \"free\"\ndensity_ratio = 2.0\n[scene.contact]\nstrength = 0.01\n\
+        repulsion = \"exponential\"\nlubrication = true\n[fluid]\nmodel = \"newtonian\"\n\
+        density = 1.0\nviscosity = 10.0\n[scheme]\nviscosity = \"implicit\"\n\
+        [run]\nend_time = 50.0\noutput_interval = 0.25\n";
+    let case = case::parse(text, "settling-on-wall.toml", "settle", &[]).unwrap();
+    let mut sim = Simulation::new(case.setup());
+    let weight = 10.0 * std::f64::consts::PI;
+    let (mut ratio, mut tangential) = (None, 0.0f64);
+    while sim.state.time < 50.0 {
+        sim.step(f64::INFINITY).expect("no breakdown");
+        let d = sim.bodies().discs[0];
+        tangential = tangential.max(d.velocity.x.abs()).max(d.spin.abs());
+        let s = d.circle.centre.y - 1.0;
+        if ratio.is_none() && s < 0.125 {
+            let reynolds = 3.0 * 2f64.sqrt() * std::f64::consts::PI * 10.0 * s.powf(-1.5);
+            ratio = Some(-d.velocity.y * reynolds / weight);
+        }
+    }
+    let gap = sim.bodies().discs[0].circle.centre.y - 1.0;
+    let ratio = ratio.expect("the gap closed below 0.125R");
+    eprintln!(
+        "V f_R/W at s < 0.125R: {ratio:.3}; gap at t = 50: {gap:.4}; tangential {tangential:.2e}"
+    );
+    assert!((0.4..=1.0).contains(&ratio), "approach speed ratio {ratio}");
+    assert!(gap > 0.03, "gap {gap}");
+    assert!(tangential < 1e-5, "tangential speed or spin {tangential}");
+}

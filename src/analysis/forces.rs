@@ -13,6 +13,7 @@ pub fn view(sim: &Simulation) -> FluidView<'_> {
         kernel: &sim.kernel,
         domain: &sim.domain,
         fluid: &sim.fluid,
+        walls: sim.walls(),
     }
 }
 

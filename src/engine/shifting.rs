@@ -72,6 +72,9 @@ pub struct ShiftInputs<'a> {
 #[derive(Clone, Debug)]
 pub struct Shifting {
     pub rule: ShiftRule,
+    /// Internal flows: no shift into a wall within this reach (set where gaps narrower than
+    /// the kernel support are allowed: discs under lubrication, [`Self::keep_off_walls`]).
+    keep_off: Option<f64>,
     grad_c: Vec<Vec2>,
     region: Vec<bool>,
 }
@@ -80,9 +83,21 @@ impl Shifting {
     pub fn new(rule: ShiftRule) -> Self {
         Self {
             rule,
+            keep_off: None,
             grad_c: Vec::new(),
             region: Vec::new(),
         }
+    }
+
+    /// Internal shifting stops moving particles towards a wall within `reach` of it. In a gap
+    /// narrower than the kernel support the mirrors of one wall miss the fluid beyond the
+    /// other, ∇C points away from the nearer wall's far side, and the shift walks the
+    /// particles left in the gap through it. Measured: a disc settling onto the floor under
+    /// lubrication (R/δr = 8, gap 0.57δr) lost the particle under it through the floor, at
+    /// ~0.004 a step with its velocity pointing up (README, *Rigid discs*).
+    pub fn keep_off_walls(mut self, reach: f64) -> Self {
+        self.keep_off = Some(reach);
+        self
     }
 
     /// Heap bytes held.
@@ -106,6 +121,10 @@ impl Shifting {
                 self.grad_c.resize(n, Vec2::zeros());
                 concentration_gradient(list, sums, kernel, inputs.spacing, &mut self.grad_c);
                 internal_shifting_velocity(&self.grad_c, kernel.h(), inputs.dt, u_ps);
+                if let Some(reach) = self.keep_off {
+                    self.region.resize(n, true);
+                    keep_off_walls(&inputs.points[..n], inputs.walls, &self.region, reach, u_ps);
+                }
             }
             ShiftRule::FreeSurface { repulsion } => {
                 let surface = inputs

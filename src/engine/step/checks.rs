@@ -80,11 +80,15 @@ impl Simulation {
         self.check_discs().or_else(fail)
     }
 
-    /// The discs stay one kernel support from the walls and from each other (no contact
-    /// model yet); across periodic ends they pass.
+    /// The discs stay one kernel support from the walls and from each other, or, under a
+    /// contact model meant for closer gaps (lubrication, the exponential repulsion), do not
+    /// overlap them ([`crate::engine::bodies::contact::Contact::smallest_gap`]); across periodic ends they pass.
     fn check_discs(&self) -> Result<(), String> {
-        let discs = &self.stages.bodies.discs;
-        let (d, support) = (&self.domain, self.kernel.support());
+        let bodies = &self.stages.bodies;
+        let discs = &bodies.discs;
+        let support = self.kernel.support();
+        let support = bodies.contact.map_or(support, |c| c.smallest_gap(support));
+        let d = &self.domain;
         for (k, disc) in discs.iter().enumerate() {
             let (c, r) = (disc.circle.centre, disc.circle.radius);
             let near_wall = |a: usize| {
@@ -92,7 +96,7 @@ impl Simulation {
             };
             if near_wall(0) || near_wall(1) {
                 return Err(format!(
-                    "disc {k} at ({:.4}, {:.4}) came within a kernel support of a wall",
+                    "disc {k} at ({:.4}, {:.4}) came within {support:.4} of a wall",
                     c.x, c.y
                 ));
             }
@@ -100,7 +104,7 @@ impl Simulation {
                 let gap = d.min_image(c - other.circle.centre).norm() - r - other.circle.radius;
                 if gap < support {
                     return Err(format!(
-                        "discs {k} and {m} came within a kernel support ({gap:.4})"
+                        "discs {k} and {m} came within {support:.4} ({gap:.4})"
                     ));
                 }
             }

@@ -183,12 +183,7 @@ impl Simulation {
             reordering: Reordering::new(scheme.reorder, scheme.frame.moves_particles()),
             hood,
             kinematics: Kinematics::new(scheme.constitutive_gradient),
-            shifting: Shifting::new(ShiftRule::new(
-                scheme.frame,
-                scheme.shifting,
-                setup.free_surface,
-                scheme.surface_repulsion,
-            )),
+            shifting: shifting(&scheme, (setup.free_surface, setup.contact, setup.spacing)),
             free_surface: setup.free_surface.then(|| {
                 let sigma = if cohesive { 0.0 } else { fluid.surface_tension };
                 FreeSurfaceStage::new(scheme.surface_options(), sigma, setup.spacing, wetting)
@@ -446,6 +441,7 @@ impl Simulation {
             kernel: &self.kernel,
             domain: &self.domain,
             fluid: &self.fluid,
+            walls: &self.stages.hood.ghosts.walls,
         };
         let g = self.state.body_force;
         let fluid = &self.fluid;
@@ -457,9 +453,11 @@ impl Simulation {
         let coupling = Coupling {
             fluid_density: fluid.density,
             response_viscosity: fluid.solvent_viscosity() + elastic,
+            viscosity: fluid.viscosity,
             spacing: self.spacing,
             dt,
             domain: self.domain,
+            stiffening: 1.0,
         };
         let dv = self.particle_volume();
         let bodies = &mut self.stages.bodies;
@@ -904,6 +902,25 @@ impl Simulation {
     /// The solid walls that create mirror particles.
     pub fn walls(&self) -> &[crate::engine::boundary::Wall] {
         &self.stages.hood.ghosts.walls
+    }
+}
+
+/// Step 2's shift rule; under a contact model for gaps narrower than the support it keeps
+/// particles from shifting into walls within δr/2 ([`Shifting::keep_off_walls`]).
+fn shifting(
+    scheme: &Scheme,
+    (free_surface, contact, spacing): (bool, Option<Contact>, f64),
+) -> Shifting {
+    let rule = ShiftRule::new(
+        scheme.frame,
+        scheme.shifting,
+        free_surface,
+        scheme.surface_repulsion,
+    );
+    let shifting = Shifting::new(rule);
+    match contact {
+        Some(c) if c.closes_gaps() => shifting.keep_off_walls(0.5 * spacing),
+        _ => shifting,
     }
 }
 

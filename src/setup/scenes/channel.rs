@@ -159,7 +159,7 @@ impl ChannelSpec {
         let contact = self
             .contact
             .as_ref()
-            .map(|c| c.validate(support, discs.is_empty()))
+            .map(|c| c.validate(support, &discs))
             .transpose()?;
         let gravity = self.validate_gravity()?;
         Ok(Channel {

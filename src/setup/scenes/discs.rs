@@ -4,7 +4,7 @@
 //! fluid's load; `density_ratio` ρ_s/ρ_f).
 
 use super::circle_in_box;
-use crate::engine::bodies::contact::Contact;
+use crate::engine::bodies::contact::{Contact, Lubrication, Repulsion};
 use crate::engine::bodies::{Disc, Motion};
 use crate::engine::boundary::Circle;
 use crate::engine::math::Vec2;
@@ -148,36 +148,89 @@ pub fn check_apart(
     Ok(())
 }
 
-/// `[scene.contact]`: the discs' short-range repulsion (see
+/// `[scene.contact]`: the discs' short-range repulsion and lubrication (see
 /// [`crate::engine::bodies::contact`]).
 #[derive(Clone, Debug, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactSpec {
-    /// F₀, force per unit length at contact.
+    /// F₀: force per unit length at contact (`quadratic`), or the seed's F_rep (`exponential`,
+    /// force F₀/s at gaps s ≪ 1/τ).
     pub strength: f64,
-    /// ℓ, the gap below which it acts (default: two kernel supports).
+    /// `quadratic` (default) or `exponential` (Vázquez-Quesada & Ellero 2017, eq. (9)).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub repulsion: Option<RepulsionKind>,
+    /// `quadratic`: ℓ, the gap below which it acts (default two kernel supports);
+    /// `exponential`: the decay length 1/τ (default 0.01 of the smallest disc radius).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub range: Option<f64>,
+    /// The normal lubrication force below `lubrication_cutoff` (default off).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lubrication: Option<bool>,
+    /// s_c, the gap below which the particles no longer resolve the squeeze flow (default
+    /// one kernel support).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lubrication_cutoff: Option<f64>,
+}
+
+/// The repulsion's law (see [`Repulsion`]).
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum RepulsionKind {
+    Quadratic,
+    Exponential,
 }
 
 impl ContactSpec {
-    /// The run stops when a gap falls below one kernel `support` (mirrors would overlap), so
-    /// the repulsion must reach further.
-    pub fn validate(&self, support: f64, no_discs: bool) -> Result<Contact, FieldError> {
-        if no_discs {
+    /// Without a model for closer gaps the run stops when a gap falls below one kernel
+    /// `support` (mirrors of a narrower gap miss the fluid beyond it), so the quadratic
+    /// repulsion alone must reach further.
+    pub fn validate(&self, support: f64, discs: &[DiscPlan]) -> Result<Contact, FieldError> {
+        if discs.is_empty() {
             return Err(field_err(
                 "scene.contact",
                 "there are no [[scene.discs]] to keep apart",
             ));
         }
         let strength = positive("scene.contact.strength", self.strength)?;
-        let range = self.range.unwrap_or(2.0 * support);
-        if range.is_nan() || range <= support || !range.is_finite() {
-            return Err(field_err(
-                "scene.contact.range",
-                format!("must exceed one kernel support ({support:.4}), where the run stops, got {range}"),
-            ));
-        }
-        Ok(Contact { strength, range })
+        let lubrication = match self.lubrication {
+            Some(true) => Some(Lubrication {
+                cutoff: positive(
+                    "scene.contact.lubrication_cutoff",
+                    self.lubrication_cutoff.unwrap_or(support),
+                )?,
+            }),
+            _ if self.lubrication_cutoff.is_some() => {
+                return Err(field_err(
+                    "scene.contact.lubrication_cutoff",
+                    "needs scene.contact.lubrication = true",
+                ))
+            }
+            _ => None,
+        };
+        let repulsion = match self.repulsion.unwrap_or(RepulsionKind::Quadratic) {
+            RepulsionKind::Quadratic => {
+                let range = self.range.unwrap_or(2.0 * support);
+                let floor = if lubrication.is_some() { 0.0 } else { support };
+                if range.is_nan() || range <= floor || !range.is_finite() {
+                    return Err(field_err(
+                        "scene.contact.range",
+                        format!("must exceed {floor:.4} (one kernel support without lubrication, where the run stops), got {range}"),
+                    ));
+                }
+                Repulsion::Quadratic { strength, range }
+            }
+            RepulsionKind::Exponential => {
+                let smallest = discs
+                    .iter()
+                    .map(|d| d.circle.radius)
+                    .fold(f64::MAX, f64::min);
+                let decay = positive("scene.contact.range", self.range.unwrap_or(0.01 * smallest))?;
+                Repulsion::Exponential { strength, decay }
+            }
+        };
+        Ok(Contact {
+            repulsion,
+            lubrication,
+        })
     }
 }
