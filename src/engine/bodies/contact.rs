@@ -76,14 +76,7 @@ impl Lubrication {
         let s = gap.max(1e-4 * reduced_radius);
         reynolds(viscosity, reduced_radius, s) - reynolds(viscosity, reduced_radius, self.cutoff)
     }
-}
 
-/// Reynolds' squeeze resistance 3√2π η (R*/s)^{3/2} of a gap s (module docs).
-fn reynolds(viscosity: f64, reduced_radius: f64, gap: f64) -> f64 {
-    3.0 * 2f64.sqrt() * std::f64::consts::PI * viscosity * (reduced_radius / gap).powf(1.5)
-}
-
-impl Lubrication {
     /// The relative normal velocity w^{n+1} of a pair of total mobility Σ inside the cut-off
     /// from the load's w* and the last step's w^n ([`Contact::lubricate`]), with the
     /// correction f that acts.
@@ -99,6 +92,11 @@ impl Lubrication {
         let k = sq.dt * mobility;
         (f, (w + k * f_r * w_old) / (1.0 + k * (f_r + f)))
     }
+}
+
+/// Reynolds' squeeze resistance 3√2π η (R*/s)^{3/2} of a gap s (module docs).
+fn reynolds(viscosity: f64, reduced_radius: f64, gap: f64) -> f64 {
+    3.0 * 2f64.sqrt() * std::f64::consts::PI * viscosity * (reduced_radius / gap).powf(1.5)
 }
 
 /// `[scene.contact]`: the repulsion and, optionally, the lubrication correction.
@@ -155,9 +153,8 @@ impl Contact {
         for (k, a) in discs.iter().enumerate() {
             for (m, b) in discs.iter().enumerate().skip(k + 1) {
                 let d = domain.min_image(a.circle.centre - b.circle.centre);
-                let distance = d.norm();
-                let gap = distance - a.circle.radius - b.circle.radius;
-                let f = self.magnitude(gap) * d / distance.max(f64::MIN_POSITIVE);
+                let (gap, _) = pair_gap(a, b, domain);
+                let f = self.magnitude(gap) * d / d.norm().max(f64::MIN_POSITIVE);
                 out[k] += f;
                 out[m] -= f;
             }
@@ -179,11 +176,13 @@ impl Contact {
     /// step, however stiff f, reverses the approach. f_r is the squeeze resistance the
     /// particles resolve, f_r = 3√2π η R*^{3/2} s_c^{−3/2} inside the cut-off: like the
     /// coupling's k_V ([`super`]), it stands for the load's response within the step to the
-    /// discs' own motion, which in a gap of a few spacings is the pressure's, instantaneous
-    /// and far above k_V; it vanishes at a steady state (w^{n+1} = w^n = w*). Without it a
-    /// disc settling onto a wall (R/δr = 8, s ≈ 1.1δr) bounced off, its speed alternating and
-    /// growing, with or without the correction f (README, *Rigid discs*). One Gauss–Seidel
-    /// sweep over the pairs, then the walls (exact for a single pair). Returns each disc's
+    /// discs' own motion along the gap, the pressure's, instantaneous in a gap of a few
+    /// spacings; it vanishes at a steady state (w^{n+1} = w^n = w*). It was added for the
+    /// normal bounce of a disc settling onto a wall without lubrication (R/δr = 8, s ≈ 0.1R);
+    /// the breakdowns measured with it were tangential, and were cured by the coupling's
+    /// stiffening ([`super::Coupling::stiffening`]), which scales k_V along the normal too,
+    /// so whether f_r is still needed beside it was not isolated. One Gauss–Seidel sweep
+    /// over the pairs, then the walls (exact for a single pair). Returns each disc's
     /// lubrication force f w^{n+1} (for the record).
     pub fn lubricate(&self, discs: &mut [Disc], sq: &Squeeze, domain: &Domain) -> Vec<Vec2> {
         let mut out = vec![Vec2::zeros(); discs.len()];
@@ -194,15 +193,13 @@ impl Contact {
         for k in 0..n {
             for m in k + 1..n {
                 let (a, b) = (&discs[k], &discs[m]);
-                let d = domain.min_image(a.circle.centre - b.circle.centre);
-                let (ra, rb) = (a.circle.radius, b.circle.radius);
-                let gap = d.norm() - ra - rb;
+                let (gap, e) = pair_gap(a, b, domain);
                 let mobility = sq.mobility[k] + sq.mobility[m];
                 if gap >= lub.cutoff || mobility == 0.0 {
                     continue;
                 }
+                let (ra, rb) = (a.circle.radius, b.circle.radius);
                 let reduced = ra * rb / (ra + rb);
-                let e = d / d.norm();
                 let w = (a.velocity - b.velocity).dot(&e);
                 let w_old = (sq.previous[k] - sq.previous[m]).dot(&e);
                 let (f, w_new) = lub.relax((w, w_old), (sq, mobility), reduced, gap);
@@ -237,12 +234,18 @@ pub fn narrowest_gap(discs: &[Disc], k: usize, domain: &Domain) -> f64 {
         .iter()
         .enumerate()
         .filter(|&(m, _)| m != k)
-        .map(|(_, b)| {
-            let d = domain.min_image(a.circle.centre - b.circle.centre);
-            d.norm() - a.circle.radius - b.circle.radius
-        });
+        .map(|(_, b)| pair_gap(a, b, domain).0);
     let to_walls = wall_gaps(a, domain).into_iter().map(|(gap, _)| gap);
     to_discs.chain(to_walls).fold(f64::INFINITY, f64::min)
+}
+
+/// The gap between discs `a` and `b` (nearest periodic images) and the unit vector from b
+/// to a.
+fn pair_gap(a: &Disc, b: &Disc, domain: &Domain) -> (f64, Vec2) {
+    let d = domain.min_image(a.circle.centre - b.circle.centre);
+    let distance = d.norm();
+    let gap = distance - a.circle.radius - b.circle.radius;
+    (gap, d / distance.max(f64::MIN_POSITIVE))
 }
 
 /// The gaps between a disc and the walls bounding the non-periodic axes of `domain`, each
