@@ -2,6 +2,7 @@
 //! construction, checked and reported, never assumed.
 
 use super::{Breakdown, Simulation};
+use crate::engine::bodies::contact::narrowest_gap;
 use crate::engine::reduce::blocked_sum;
 use crate::engine::weakly_compressible::DENSITY_DEVIATION_LIMIT;
 use rayon::prelude::*;
@@ -85,28 +86,16 @@ impl Simulation {
     /// overlap them ([`crate::engine::bodies::contact::Contact::smallest_gap`]); across periodic ends they pass.
     fn check_discs(&self) -> Result<(), String> {
         let bodies = &self.stages.bodies;
-        let discs = &bodies.discs;
         let support = self.kernel.support();
-        let support = bodies.contact.map_or(support, |c| c.smallest_gap(support));
-        let d = &self.domain;
-        for (k, disc) in discs.iter().enumerate() {
-            let (c, r) = (disc.circle.centre, disc.circle.radius);
-            let near_wall = |a: usize| {
-                !d.periodic[a] && (c[a] - r < d.min[a] + support || c[a] + r > d.max[a] - support)
-            };
-            if near_wall(0) || near_wall(1) {
+        let smallest = bodies.contact.map_or(support, |c| c.smallest_gap(support));
+        for (k, disc) in bodies.discs.iter().enumerate() {
+            let gap = narrowest_gap(&bodies.discs, k, &self.domain);
+            if gap < smallest {
+                let c = disc.circle.centre;
                 return Err(format!(
-                    "disc {k} at ({:.4}, {:.4}) came within {support:.4} of a wall",
+                    "disc {k} at ({:.4}, {:.4}) came within {smallest:.4} of a wall or another disc (gap {gap:.4})",
                     c.x, c.y
                 ));
-            }
-            for (m, other) in discs.iter().enumerate().skip(k + 1) {
-                let gap = d.min_image(c - other.circle.centre).norm() - r - other.circle.radius;
-                if gap < support {
-                    return Err(format!(
-                        "discs {k} and {m} came within {support:.4} ({gap:.4})"
-                    ));
-                }
             }
         }
         Ok(())
