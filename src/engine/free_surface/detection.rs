@@ -283,7 +283,7 @@ impl FreeSurface {
 /// Whether the scan region of Marrone et al. (2010) about the unit normal `normal` of
 /// particle i (module docs) holds no neighbour of i (fluid or mirror: a wall is not a
 /// surface), for particles of spacing `dr`.
-fn scan_region_empty(list: &NeighbourList, i: usize, normal: Vec2, dr: f64) -> bool {
+pub fn scan_region_empty(list: &NeighbourList, i: usize, normal: Vec2, dr: f64) -> bool {
     let reach2 = 2.0 * dr * dr;
     !list.range(i).any(|k| {
         // r_j − r_i.

@@ -33,10 +33,16 @@ use rayon::prelude::*;
 /// along the wall rather than meet it (θ within ~12° of 0 or 180°).
 pub const MIN_TANGENTIAL: f64 = 0.2;
 
-/// How far a contact corner's normal may turn into its wall (−n·n_w, n_w the wall's normal
-/// into the fluid): the 120° rise's corners measured 0.13, the bottom particles of a
-/// spreading foot 0.3 to 0.8 ([`Wetting::find_corners`]).
+/// How far a contact corner's normal may turn into its wall beyond the prescribed normal's
+/// own turn (n·n_w > min(cos θ, 0) − this, n_w the wall's normal into the fluid): the 120°
+/// rise's corners measured n·n_w = −0.13, the bottom particles of a spreading 40° foot −0.3
+/// to −0.8 ([`Wetting::find_corners`]). At θ > 90° the prescribed normal itself turns into
+/// the wall (n·n_w = cos θ, −0.5 at 120°), so a fixed bound of −0.25 refused the corner
+/// that closes a 120° contact line.
 const INTO_WALL: f64 = 0.25;
+
+/// How far from a wetted flat face (in spacings) NS particles take the exposure test.
+const EXPOSED_REACH: f64 = 2.5;
 
 /// A contact particle's line: its distance from the wall, the surface normal m the angle
 /// prescribes, the tangent perpendicular to m that leads away from the wall along the real
@@ -135,7 +141,9 @@ impl Wetting {
     /// at the wall: no fluid of the first layer lies ahead of it along the wall towards the
     /// gas (by more than δr/4). Which way the gas lies is read from its normal (39), which
     /// must be well defined (near the surface), not along the wall's normal, and not turned
-    /// into the wall by more than [`INTO_WALL`]. Whether any was found.
+    /// into the wall by more than [`INTO_WALL`] beyond the prescribed normal. At a
+    /// non-wetting wall the particles [`Self::is_exposed`] finds join too. Whether any was
+    /// found.
     ///
     /// (36) misses such a particle: its mirrors fill the wall's side of its support, and a
     /// surface particle beside it fills the rest enough; the exposure test is not applied
@@ -162,7 +170,12 @@ impl Wetting {
         corners.resize(n, false);
         let this = &*self;
         corners.par_iter_mut().enumerate().for_each(|(i, corner)| {
-            *corner = this.is_corner(i, points, list, surface);
+            let near = surface.near_surface[i]
+                && surface.normal_strength[i]
+                    > crate::engine::free_surface::detection::NEAR_SURFACE_STRENGTH;
+            *corner = near
+                && (this.is_corner(i, points, list, surface)
+                    || this.is_exposed(i, points, list, surface));
         });
         self.corners = corners;
         self.corners.iter().any(|&c| c)
@@ -173,7 +186,8 @@ impl Wetting {
         &self.corners
     }
 
-    /// Whether particle i is a contact corner ([`Self::find_corners`]).
+    /// Whether particle i, an NS particle with a well-defined normal, is a contact corner
+    /// ([`Self::find_corners`]).
     fn is_corner(
         &self,
         i: usize,
@@ -181,14 +195,8 @@ impl Wetting {
         list: &NeighbourList,
         surface: &FreeSurface,
     ) -> bool {
-        let near = surface.near_surface[i]
-            && surface.normal_strength[i]
-                > crate::engine::free_surface::detection::NEAR_SURFACE_STRENGTH;
-        if !near {
-            return false;
-        }
         let layer = self.spacing;
-        let Some((distance, wall_normal, _)) = self.nearest_face(&points[i], layer) else {
+        let Some((distance, wall_normal, wall)) = self.nearest_face(&points[i], layer) else {
             return false;
         };
         let tangent = Vec2::new(-wall_normal.y, wall_normal.x);
@@ -204,7 +212,42 @@ impl Wetting {
                 && r.dot(&t_g) > 0.25 * layer
                 && distance + r.dot(&wall_normal) < layer
         });
-        !layer_ahead && surface.normal[i].dot(&wall_normal) > -INTO_WALL
+        !layer_ahead && surface.normal[i].dot(&wall_normal) > wall.cos.min(0.0) - INTO_WALL
+    }
+
+    /// Whether particle i, an NS particle from δr to [`EXPOSED_REACH`] spacings from a
+    /// non-wetting flat face (θ > 90°) whose normal (39) turns towards that face
+    /// (n·n_w < 0), is exposed:
+    /// the scan region of Marrone et al. (2010) about its normal holds no neighbour.
+    /// [`crate::engine::free_surface::detection`] skips this test within about 2.5δr of any
+    /// wall, and there (36) misses exactly these particles: where the surface faces the wall
+    /// (a depressed meniscus, θ > 90°), the wall's mirrors lie on the gas side of it and
+    /// fill the support. Measured in the 120° capillary rise (t = 40, the corner alone): the
+    /// row 1.5δr and 2.1δr from the plate, ⟨∇·r⟩ 1.41 and 1.57 with nothing above, was
+    /// interior and the column stalled at −0.25 (Jurin −0.625). Where the surface faces
+    /// away from the wall the mirrors lie under the liquid and (36) sees the surface. At a
+    /// wetting wall the test is left off: taken there it flagged particles of the 40°
+    /// sessile drop's thin foot on and off and kicked the drop at rest to speeds of
+    /// 0.004–0.065 (0.0001 without), and 0.18 when only the normals facing the plate took
+    /// it (the foot's tip turns down).
+    fn is_exposed(
+        &self,
+        i: usize,
+        points: &[Vec2],
+        list: &NeighbourList,
+        surface: &FreeSurface,
+    ) -> bool {
+        let reach = EXPOSED_REACH * self.spacing;
+        self.nearest_face(&points[i], reach)
+            .is_some_and(|(d, n_w, wall)| {
+                wall.cos < 0.0 && d >= self.spacing && surface.normal[i].dot(&n_w) < 0.0
+            })
+            && crate::engine::free_surface::detection::scan_region_empty(
+                list,
+                i,
+                surface.normal[i],
+                self.spacing,
+            )
     }
 
     /// The contact lines of the FS particles at `points` (the fluid positions).
@@ -271,6 +314,30 @@ mod tests {
         })
     }
 
+    /// The fluid particles `fluid` of spacing `dr` beside the wall x = 0 with their mirrors
+    /// across it (fluid first), their neighbour list and their free surface (36)–(39).
+    fn beside_wall(fluid: &[Vec2], dr: f64) -> (Vec<Vec2>, NeighbourList, FreeSurface) {
+        use crate::engine::kernel::QuinticSpline;
+        use crate::engine::neighbours::{Domain, NeighbourSearch};
+        use crate::engine::operators::KernelSums;
+        let kernel = QuinticSpline::for_spacing(dr);
+        let n = fluid.len();
+        let mut points = fluid.to_vec();
+        points.extend(fluid.iter().map(|p| Vec2::new(-p.x, p.y)));
+        let domain = Domain {
+            min: Vec2::new(-2.0, 0.0),
+            max: Vec2::new(2.0, 2.0),
+            periodic: [false, false],
+        };
+        let mut list = NeighbourList::default();
+        NeighbourSearch::new().build(&domain, &points, n, kernel.support(), &mut list);
+        let mut sums = KernelSums::default();
+        sums.update(&list, &kernel, dr * dr);
+        let mut fs = FreeSurface::default();
+        fs.detect(&list, &sums, &kernel);
+        (points, list, fs)
+    }
+
     /// At a vertical wall with the liquid to its right and the gas above, θ = 30° asks for the
     /// surface normal m = (cos θ, sin θ): the real surface leaves the wall downwards, 60°
     /// below the horizontal (a meniscus drawn up the wall).
@@ -329,9 +396,6 @@ mod tests {
     /// to FS; no other particle is a corner, and none at all in the plain block.
     #[test]
     fn the_particle_closing_the_surface_at_a_wall_is_a_corner() {
-        use crate::engine::kernel::QuinticSpline;
-        use crate::engine::neighbours::{Domain, NeighbourSearch};
-        use crate::engine::operators::KernelSums;
         let dr = 0.1;
         // As measured at t = 6: the row's end 1.27δr from the plate, the corner 0.73δr from
         // it and 0.4δr under the row, the two particles under the corner 0.57δr and 1.37δr
@@ -356,22 +420,9 @@ mod tests {
             }
             fluid
         };
-        let kernel = QuinticSpline::for_spacing(dr);
         let corners = |fluid: &[Vec2]| {
             let n = fluid.len();
-            let mut points = fluid.to_vec();
-            points.extend(fluid.iter().map(|p| Vec2::new(-p.x, p.y)));
-            let domain = Domain {
-                min: Vec2::new(-2.0, 0.0),
-                max: Vec2::new(2.0, 2.0),
-                periodic: [false, false],
-            };
-            let mut list = NeighbourList::default();
-            NeighbourSearch::new().build(&domain, &points, n, kernel.support(), &mut list);
-            let mut sums = KernelSums::default();
-            sums.update(&list, &kernel, dr * dr);
-            let mut fs = FreeSurface::default();
-            fs.detect(&list, &sums, &kernel);
+            let (points, list, fs) = beside_wall(fluid, dr);
             let mut w = Wetting::new(2.0, vec![vertical_wall()], dr);
             w.find_corners(&points[..n], &list, &fs);
             (fs, w.corner_buffer().to_vec())
@@ -385,6 +436,50 @@ mod tests {
         assert_eq!(flagged, vec![c]);
         let (_, found) = corners(&block(false));
         assert!(found.iter().all(|&f| !f));
+    }
+
+    /// A block beside the wall x = 0 whose surface falls towards the wall (one row per two
+    /// columns, a depressed meniscus's slope): at θ = 120° the one particle (36) misses
+    /// between δr and 2.5δr from the wall is exposed; at a wetting wall (60°) none is, nor
+    /// any of a plain block.
+    #[test]
+    fn particles_hidden_by_a_non_wetting_wall_are_exposed() {
+        let dr = 0.1;
+        let block = |sloped: bool| -> Vec<Vec2> {
+            (0..16)
+                .flat_map(|i| {
+                    let rows = if sloped { 6 + (i / 2).min(4) } else { 10 };
+                    (0..rows).map(move |j| Vec2::new((i as f64 + 0.5) * dr, (j as f64 + 0.5) * dr))
+                })
+                .collect()
+        };
+        let flagged = |fluid: &[Vec2], theta: f64| -> Vec<usize> {
+            let n = fluid.len();
+            let (points, list, fs) = beside_wall(fluid, dr);
+            let w = Wetting::new(theta.to_radians(), vec![vertical_wall()], dr);
+            (0..n)
+                .filter(|&i| {
+                    let near = fs.near_surface[i]
+                        && fs.normal_strength[i]
+                            > crate::engine::free_surface::detection::NEAR_SURFACE_STRENGTH;
+                    near && w.is_exposed(i, &points[..n], &list, &fs)
+                })
+                .collect()
+        };
+        let sloped = block(true);
+        // The top of the second column, (1.5δr, 5.5δr), under the step up to the third:
+        // (36) takes it for interior.
+        let exposed: Vec<Vec2> = flagged(&sloped, 120.0)
+            .iter()
+            .map(|&i| sloped[i] / dr)
+            .collect();
+        assert_eq!(exposed.len(), 1, "{exposed:?}");
+        assert!(
+            (exposed[0] - Vec2::new(1.5, 5.5)).norm() < 1e-9,
+            "{exposed:?}"
+        );
+        assert!(flagged(&sloped, 60.0).is_empty());
+        assert!(flagged(&block(false), 120.0).is_empty());
     }
 
     /// Each wall keeps its own angle: 30° at x = 0, 90° (neutral) at x = 1, where the

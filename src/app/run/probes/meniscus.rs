@@ -19,7 +19,14 @@
 //!   area of the liquid between the plates' flat faces above the centres y_c of their rounded
 //!   ends, counted the same way: Jurin's height exactly;
 //! * `gap_centre`: the surface's height midway between the plates (the meniscus's lowest point
-//!   when it rises).
+//!   when it rises);
+//! * `gap_surface`: the column's mean height read from its surface, not counted: the mean over
+//!   the gap's columns of width δr of the highest particle's centre plus δr/2, less `level`.
+//!   The count assumes that the particles keep their volume, and between the plates they do
+//!   not always: at θ = 120° (`cases/capillary-rise.toml`, t = 20) the column above the
+//!   plates' rounded ends held 14 % more particles than its surface encloses (the far field
+//!   0.2 %), its top row bunched to about 0.55δr, so `gap_mean` read −0.540 where the
+//!   surface stood at −0.584 (Jurin −0.625).
 
 use super::Probe;
 use crate::app::io::{self, SeriesRow};
@@ -32,7 +39,7 @@ use anyhow::Result;
 use std::path::Path;
 
 const HEADER: &str =
-    "t,level,wall_left,wall_right,plate_left,plate_right,gap_mean,gap_centre,level_count";
+    "t,level,wall_left,wall_right,plate_left,plate_right,gap_mean,gap_centre,level_count,gap_surface";
 
 /// One row of `meniscus.csv` (NaN where the pool has no plates).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -44,6 +51,7 @@ pub struct MeniscusRow {
     pub gap_mean: f64,
     pub gap_centre: f64,
     pub level_count: f64,
+    pub gap_surface: f64,
 }
 
 /// The meniscus summary: the rises averaged over the second half of the rows (a wide tank
@@ -75,6 +83,11 @@ pub struct MeniscusSummary {
     pub gap_mean_rise_relative_error: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub gap_centre_rise: Option<f64>,
+    /// The mean of `gap_surface`: the column's height read from its surface.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub gap_surface_rise: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub gap_surface_rise_relative_error: Option<f64>,
     /// The range of the gap's (or the walls') rise over the second half of the run, relative
     /// to the exact value: how far from static the averaged rows are.
     pub late_drift: f64,
@@ -156,16 +169,23 @@ impl MeniscusProbe {
         };
         let half = self.half();
         let wall = [at_wall(-half, 1.0), at_wall(half, -1.0)];
-        let (plate, gap_mean, gap_centre) = match self.pool.plates {
-            None => ([f64::NAN; 2], f64::NAN, f64::NAN),
+        let (plate, gap_mean, gap_centre, gap_surface) = match self.pool.plates {
+            None => ([f64::NAN; 2], f64::NAN, f64::NAN, f64::NAN),
             Some([l, r]) => {
                 let gap = r.left - l.right;
                 let base = l.end().centre.y;
                 let inside = count(&|p| p.x > l.right && p.x < r.left && p.y > base);
+                let columns = (gap / dr).round().max(1.0) as usize;
+                let width = gap / columns as f64;
+                let surface = (0..columns)
+                    .map(|k| top(l.right + k as f64 * width, l.right + (k + 1) as f64 * width))
+                    .sum::<f64>()
+                    / columns as f64;
                 (
                     [at_wall(l.left, -1.0), at_wall(r.right, 1.0)],
                     base + inside * dr * dr / gap - level_count,
                     top(-dr, dr) - level,
+                    surface - level,
                 )
             }
         };
@@ -177,6 +197,7 @@ impl MeniscusProbe {
             gap_mean,
             gap_centre,
             level_count,
+            gap_surface,
         }
     }
 
@@ -217,6 +238,7 @@ impl MeniscusProbe {
         let relative = |rise: f64, exact: f64| (exact != 0.0).then(|| rise / exact - 1.0);
         let jurin = self.jurin_height();
         let gap_mean = plates.then(|| mean(&|r| r.gap_mean));
+        let gap_surface = plates.then(|| mean(&|r| r.gap_surface));
         let watched = |r: &MeniscusRow| {
             if plates {
                 r.gap_mean
@@ -245,6 +267,8 @@ impl MeniscusProbe {
             gap_mean_rise: gap_mean,
             gap_mean_rise_relative_error: gap_mean.zip(jurin).map(|(g, j)| g / j - 1.0),
             gap_centre_rise: plates.then(|| mean(&|r| r.gap_centre)),
+            gap_surface_rise: gap_surface,
+            gap_surface_rise_relative_error: gap_surface.zip(jurin).map(|(g, j)| g / j - 1.0),
             late_drift: (hi - lo) / jurin.unwrap_or(exact).abs(),
         })
     }
@@ -263,6 +287,7 @@ impl MeniscusProbe {
                 r.gap_mean,
                 r.gap_centre,
                 r.level_count,
+                r.gap_surface,
             ];
             let line: Vec<String> = values.iter().map(|v| format!("{v:.9e}")).collect();
             out.push_str(&line.join(","));
@@ -295,6 +320,12 @@ impl MeniscusProbe {
                 PALETTE[1],
                 CurveStyle::Line,
             ));
+            curves.push(curve(
+                "between the plates (surface)",
+                &|r| r.gap_surface,
+                PALETTE[2],
+                CurveStyle::Line,
+            ));
             curves.push(curve("Jurin", &|_| j, PALETTE[1], CurveStyle::Dashed));
         }
         plot::draw(
@@ -325,7 +356,8 @@ impl Probe for MeniscusProbe {
         let text = std::fs::read_to_string(dir.join("meniscus.csv"))?;
         for line in text.lines().skip(1) {
             let v: Vec<f64> = line.split(',').filter_map(|s| s.parse().ok()).collect();
-            if v.len() == 9 && v[0] <= t * (1.0 + 1e-8) {
+            // Rows written before `gap_surface` existed have nine columns.
+            if (v.len() == 9 || v.len() == 10) && v[0] <= t * (1.0 + 1e-8) {
                 self.rows.push(MeniscusRow {
                     t: v[0],
                     level: v[1],
@@ -334,6 +366,7 @@ impl Probe for MeniscusProbe {
                     gap_mean: v[6],
                     gap_centre: v[7],
                     level_count: v[8],
+                    gap_surface: v.get(9).copied().unwrap_or(f64::NAN),
                 });
             }
         }
