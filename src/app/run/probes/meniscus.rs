@@ -23,10 +23,10 @@
 //! * `gap_surface`: the column's mean height read from its surface, not counted: the mean over
 //!   the gap's columns of width δr of the highest particle's centre plus δr/2, less `level`.
 //!   The count assumes that the particles keep their volume, and between the plates they do
-//!   not always: at θ = 120° (`cases/capillary-rise.toml`, t = 20) the column above the
-//!   plates' rounded ends held 14 % more particles than its surface encloses (the far field
-//!   0.2 %), its top row bunched to about 0.55δr, so `gap_mean` read −0.540 where the
-//!   surface stood at −0.584 (Jurin −0.625).
+//!   not always: at θ = 120° (`cases/capillary-rise.toml`, t = 40) the column above the
+//!   plates' rounded ends held 11.7 % more particles than its surface encloses (the far
+//!   field 0.2 %), its top row bunched to about 0.55δr, so `gap_mean` read −0.514 where the
+//!   surface stood at −0.555 (Jurin −0.625).
 
 use super::Probe;
 use crate::app::io::{self, SeriesRow};
