@@ -7,6 +7,7 @@ pub mod xml;
 
 use crate::analysis::grid::{self, GridFields};
 use crate::app::io::write_atomic;
+use crate::engine::free_surface::FreeSurface;
 use crate::engine::step::Simulation;
 use anyhow::{Context, Result};
 use std::fmt::Write as _;
@@ -24,10 +25,18 @@ pub fn snapshot(sim: &Simulation) -> Vec<u8> {
     let velocity: Vec<f64> = s.velocity.iter().flat_map(|u| [u.x, u.y, 0.0]).collect();
     let fields = grid::particle_fields(sim);
     let kind = vec![KIND_FLUID; n];
-    // FS membership (36) of the last step; closed domains have none.
-    let free_surface: Vec<u8> = sim.surface().map_or(vec![0; n], |fs| {
-        fs.on_surface.iter().map(|&f| f as u8).collect()
-    });
+    // FS membership of the last step (by (36), the exposure test or a contact corner), NS,
+    // and (36)'s ⟨∇·r⟩ (a member above its threshold came in by exposure or as a corner);
+    // closed domains have none.
+    let flags = |f: fn(&FreeSurface) -> &[bool]| -> Vec<u8> {
+        sim.surface()
+            .map_or(vec![0; n], |fs| f(fs).iter().map(|&b| b as u8).collect())
+    };
+    let free_surface = flags(|fs| &fs.on_surface);
+    let near_surface = flags(|fs| &fs.near_surface);
+    let divergence: Vec<f64> = sim
+        .surface()
+        .map_or(vec![0.0; n], |fs| fs.position_divergence.clone());
     let mut arrays = vec![DataArray::F64 {
         name: "velocity",
         components: 3,
@@ -47,6 +56,11 @@ pub fn snapshot(sim: &Simulation) -> Vec<u8> {
         name: "free_surface",
         values: &free_surface,
     });
+    arrays.push(DataArray::U8 {
+        name: "near_surface",
+        values: &near_surface,
+    });
+    arrays.push(DataArray::scalars("position_divergence", &divergence));
     xml::unstructured_vertices(&points, &arrays)
 }
 

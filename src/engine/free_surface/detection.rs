@@ -21,6 +21,13 @@
 //!   flow under the rising meniscus spread its surface particles 1.7δr apart by t = 2.25, and
 //!   at t = 2.5 an unlabelled particle 0.6δr under the surface carried p = 1.92 against −0.6
 //!   around it; the meniscus broke up at t = 4.5.
+//!   A particle outside FS and NS whose own support is truncated (|n*| h² above
+//!   [`UNSEEN_STRENGTH`]) takes the same test about its raw normal n*: where a stretch of
+//!   surface is bunched, (36) can miss all of it, and then none of it is NS. Measured in
+//!   the 120° column of `cases/capillary-rise.toml`: the top row, 16 particles across a gap
+//!   of 10δr, had ⟨∇·r⟩ = 1.37–1.54 against thresholds near 1.3 (its concentration is below
+//!   the mean), so no particle between the plates carried the capillary pressure, and the
+//!   column stood pinned at 89 % of Jurin's depth.
 //!
 //! Mirror particles of a plate count as neighbours (a wall is not a free surface), but their
 //! own normals are not smoothed into a fluid particle's.
@@ -38,6 +45,12 @@ const CONCENTRATION_FLOOR: f64 = -0.2;
 /// Normal strength (|n| h², see [`FreeSurface::normal_strength`]) above which an NS particle
 /// belongs to the surface region: 15 % of a flat surface's.
 pub const NEAR_SURFACE_STRENGTH: f64 = 0.05;
+/// Raw normal strength |n*_i| h² (38) above which a particle outside FS and NS takes the
+/// exposure test ([`FreeSurface::exposure_normal`]). Measured in the pool of
+/// `cases/capillary-rise.toml`: 0.41–0.53 on the missed surface row, at most 0.107 (99 %
+/// below 0.031) on particles with ⟨∇·r⟩ > 1.9; the scan region itself rejects any particle
+/// with a neighbour outside it.
+const UNSEEN_STRENGTH: f64 = 0.15;
 /// The exposure scan region (Marrone et al. 2010) in particle spacings: a cone of half-angle
 /// 45° (cosine below) about the normal out to √2 δr, with the disc of radius δr centred δr
 /// out along the normal.
@@ -99,15 +112,20 @@ impl FreeSurface {
             + b(&self.exposed)
     }
 
+    /// Whether particle i is NS with a well defined normal (strength above
+    /// [`NEAR_SURFACE_STRENGTH`]: the first two rows in from a flat surface, not the middle of
+    /// a thin jet, where opposite surfaces cancel and n is noise).
+    pub fn is_near_with_normal(&self, i: usize) -> bool {
+        self.near_surface[i] && self.normal_strength[i] > NEAR_SURFACE_STRENGTH
+    }
+
     /// The surface region into `out`: FS, and the NS particles whose normal is well defined
-    /// (strength above [`NEAR_SURFACE_STRENGTH`]: the first two rows in from a flat surface,
-    /// not the middle of a thin jet, where opposite surfaces cancel and n is noise).
+    /// ([`Self::is_near_with_normal`]).
     pub fn region(&self, out: &mut Vec<bool>) {
         out.clear();
-        out.extend((0..self.on_surface.len()).map(|i| {
-            self.on_surface[i]
-                || (self.near_surface[i] && self.normal_strength[i] > NEAR_SURFACE_STRENGTH)
-        }));
+        out.extend(
+            (0..self.on_surface.len()).map(|i| self.on_surface[i] || self.is_near_with_normal(i)),
+        );
     }
 
     /// How much FS particle i counts as surface, in [0, 1] (0 off FS): 1 without a blend
@@ -232,7 +250,6 @@ impl FreeSurface {
     /// Adds the exposed NS particles to FS (module docs); whether any was added.
     fn expose(&mut self, list: &NeighbourList, kernel: &QuinticSpline) -> bool {
         let dr = kernel.h() / crate::engine::kernel::H_OVER_DR;
-        let (near, normal, strength) = (&self.near_surface, &self.normal, &self.normal_strength);
         let n = list.rows();
         let wall_reach2 = (WALL_CLEARANCE * dr).powi(2);
         let by_wall = |i: usize| {
@@ -241,15 +258,30 @@ impl FreeSurface {
         };
         let mut exposed = std::mem::take(&mut self.exposed);
         exposed.resize(n, false);
+        let this = &*self;
+        let h2 = kernel.h() * kernel.h();
         exposed.par_iter_mut().enumerate().for_each(|(i, e)| {
-            *e = near[i]
-                && strength[i] > NEAR_SURFACE_STRENGTH
-                && !by_wall(i)
-                && scan_region_empty(list, i, normal[i], dr);
+            *e = this
+                .exposure_normal(i, h2)
+                .is_some_and(|normal| !by_wall(i) && scan_region_empty(list, i, normal, dr));
         });
         let any = self.join(&exposed);
         self.exposed = exposed;
         any
+    }
+
+    /// The normal the exposure test scans about for particle i, if it takes the test: an NS
+    /// particle's with a well-defined normal ([`Self::is_near_with_normal`]), or, for a
+    /// particle outside FS and NS whose own support is truncated (|n*_i| h² above
+    /// [`UNSEEN_STRENGTH`]), its raw normal n*_i (38). The second kind is a stretch of surface
+    /// (36) missed entirely, so that no particle of it is NS.
+    fn exposure_normal(&self, i: usize, h2: f64) -> Option<Vec2> {
+        if self.is_near_with_normal(i) {
+            return Some(self.normal[i]);
+        }
+        let raw = self.raw_normal[i];
+        (!self.on_surface[i] && !self.near_surface[i] && raw.norm() * h2 > UNSEEN_STRENGTH)
+            .then(|| raw.normalize())
     }
 
     /// Puts the particles `flags` marks into FS (margin +∞); whether any was added.
@@ -378,6 +410,37 @@ mod tests {
             assert!(fs.margin[k] >= 0.0);
             assert_eq!(blended.weight(k), x * x * (3.0 - 2.0 * x));
             assert_eq!(fs.weight(k), 1.0);
+        }
+    }
+
+    /// A block whose top row is bunched along the surface to 0.55δr (as a column's surface
+    /// becomes when a receding contact line feeds it particles, `cases/capillary-rise.toml`
+    /// at 120°): (36) misses the whole row, so that none of it is NS either, and the exposure
+    /// test, scanning about the raw normal n* (38), puts it back into FS, the interior row
+    /// under it not.
+    #[test]
+    fn a_bunched_surface_row_that_36_misses_is_exposed() {
+        let (m, dr) = (30usize, 0.01);
+        let mut points: Vec<Vec2> = (0..m * (m - 1))
+            .map(|k| Vec2::new((k / (m - 1)) as f64 * dr, (k % (m - 1)) as f64 * dr))
+            .collect();
+        let top = points.len();
+        let bunched = ((m - 1) as f64 / 0.55) as usize;
+        points.extend((0..=bunched).map(|k| Vec2::new(k as f64 * 0.55 * dr, (m - 1) as f64 * dr)));
+        let fs = detect(&points, dr);
+        // The middle of the row, away from the block's corners.
+        let middle: Vec<usize> = (top..points.len())
+            .filter(|&k| (points[k].x - 0.145).abs() < 0.08)
+            .collect();
+        for &k in &middle {
+            let div = fs.position_divergence[k];
+            assert!(fs.on_surface[k], "{:?}: div r = {div}", points[k]);
+            assert_eq!(fs.margin[k], f64::INFINITY, "{:?}: (36) took it", points[k]);
+        }
+        let under = (0..top)
+            .filter(|&k| (points[k].y - 0.28).abs() < 1e-9 && (points[k].x - 0.145).abs() < 0.08);
+        for k in under {
+            assert!(!fs.on_surface[k], "{:?}", points[k]);
         }
     }
 

@@ -41,7 +41,8 @@ pub const MIN_TANGENTIAL: f64 = 0.2;
 /// that closes a 120° contact line.
 const INTO_WALL: f64 = 0.25;
 
-/// How far from a wetted flat face (in spacings) NS particles take the exposure test.
+/// How far from a non-wetting flat face (θ > 90°, in spacings) NS particles take the
+/// exposure test ([`Wetting::is_exposed`]).
 const EXPOSED_REACH: f64 = 2.5;
 
 /// A contact particle's line: its distance from the wall, the surface normal m the angle
@@ -170,10 +171,7 @@ impl Wetting {
         corners.resize(n, false);
         let this = &*self;
         corners.par_iter_mut().enumerate().for_each(|(i, corner)| {
-            let near = surface.near_surface[i]
-                && surface.normal_strength[i]
-                    > crate::engine::free_surface::detection::NEAR_SURFACE_STRENGTH;
-            *corner = near
+            *corner = surface.is_near_with_normal(i)
                 && (this.is_corner(i, points, list, surface)
                     || this.is_exposed(i, points, list, surface));
         });
@@ -458,12 +456,7 @@ mod tests {
             let (points, list, fs) = beside_wall(fluid, dr);
             let w = Wetting::new(theta.to_radians(), vec![vertical_wall()], dr);
             (0..n)
-                .filter(|&i| {
-                    let near = fs.near_surface[i]
-                        && fs.normal_strength[i]
-                            > crate::engine::free_surface::detection::NEAR_SURFACE_STRENGTH;
-                    near && w.is_exposed(i, &points[..n], &list, &fs)
-                })
+                .filter(|&i| fs.is_near_with_normal(i) && w.is_exposed(i, &points[..n], &list, &fs))
                 .collect()
         };
         let sloped = block(true);
