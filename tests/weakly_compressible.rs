@@ -107,6 +107,7 @@ fn wcsph_keys_are_validated() {
     );
     assert!(bad(&["scheme.wall_model=\"fixed\""]).contains("wall_model"));
     assert!(bad(&["scheme.contact_line_rows=\"wall\""]).contains("scheme.contact_line_rows"));
+    assert!(bad(&["scheme.volume_relaxation=0.05"]).contains("scheme.volume_relaxation"));
     // 0 restores the stability rules (a case file's fixed step undone by --set).
     let o = vec!["scheme.time_step=0".to_string()];
     let case = case::parse(common::POISEUILLE, "poiseuille.toml", "p", &o).unwrap();

@@ -30,6 +30,7 @@ pub mod state;
 pub mod step;
 pub mod timing;
 pub mod viscosity;
+pub mod volume;
 pub mod weakly_compressible;
 
 /// Heap bytes reserved by a vector.

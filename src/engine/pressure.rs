@@ -17,12 +17,14 @@
 use crate::engine::boundary::Field;
 use crate::engine::boundary::Ghosts;
 use crate::engine::frame::Frame;
+use crate::engine::free_surface::FreeSurface;
 use crate::engine::laplacian_matrix::LaplacianMatrix;
 use crate::engine::math::Vec2;
 use crate::engine::neighbours::NeighbourList;
 use crate::engine::operators::KernelSums;
 use crate::engine::scheme::PpeSettings;
 use crate::engine::state::Scales;
+use crate::engine::volume::VolumeRelaxation;
 use rayon::prelude::*;
 use rheosph_solver::{NullSpace, SolveError, SolveReport, SolverOptions, Strategy};
 
@@ -167,10 +169,12 @@ pub struct PressureStage {
     gradient: Vec<Vec2>,
     /// The matrix must be reassembled (the particle configuration changed).
     matrix_stale: bool,
+    /// The density-invariant source, if chosen.
+    volume: Option<VolumeRelaxation>,
 }
 
 impl PressureStage {
-    pub fn new(settings: PpeSettings, frame: Frame) -> Self {
+    pub fn new(settings: PpeSettings, frame: Frame, volume: Option<VolumeRelaxation>) -> Self {
         Self {
             system: PressureSystem::new(),
             settings,
@@ -181,6 +185,7 @@ impl PressureStage {
             pressure_ext: Vec::new(),
             gradient: Vec::new(),
             matrix_stale: false,
+            volume,
         }
     }
 
@@ -193,6 +198,21 @@ impl PressureStage {
             + b(&self.divergence)
             + b(&self.pressure_ext)
             + b(&self.gradient)
+    }
+
+    /// With a [`VolumeRelaxation`], after [`Self::assemble`]: the density-invariant source in
+    /// the rows with a full support (outside the free surface's FS and NS, `surface`).
+    pub fn relax_volume(
+        &mut self,
+        (list, sums): (&NeighbourList, &KernelSums),
+        surface: Option<&FreeSurface>,
+        dt: f64,
+    ) {
+        let Some(volume) = self.volume else {
+            return;
+        };
+        let full = |i: usize| surface.is_none_or(|s| !s.on_surface[i] && !s.near_surface[i]);
+        volume.add_source((list, sums), full, dt, &mut self.system.rhs);
     }
 
     /// The particle configuration changed: the matrix (and any LU factors) must be rebuilt.

@@ -130,6 +130,8 @@ pub struct PpeSettings {
     pub solver: PpeSolver,
     /// The preconditioner of BiCGStab, here and in the implicit viscous solve.
     pub preconditioner: rheosph_solver::Preconditioner,
+    /// α of the density-invariant source ([`crate::engine::volume`]; 0: off).
+    pub volume_relaxation: f64,
 }
 
 /// Which linear solver the PPE uses.

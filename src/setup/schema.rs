@@ -276,6 +276,10 @@ pub struct SchemeSpec {
     pub ppe_divergence_tolerance: f64,
     /// BiCGStab iteration budget before the sparse-LU fallback.
     pub ppe_max_iterations: usize,
+    /// α of the PPE's density-invariant source (0: off, the paper's projection): the
+    /// fraction of a particle's concentration error the projection removes per step
+    /// (`engine::volume`).
+    pub volume_relaxation: f64,
     /// Start BiCGStab from the previous step's pressure (true) or from zero.
     pub ppe_warm_start: bool,
     /// `auto`, `bicgstab` or `lu`.
@@ -379,6 +383,7 @@ impl Default for SchemeSpec {
             // BiCGStab iterations per step) and Taylor–Green (N = 50, 40 → 16); at 1e-3 the
             // Poiseuille error starts to grow (+0.5 %). Two decades of margin.
             ppe_divergence_tolerance: 1e-6,
+            volume_relaxation: 0.0,
             ppe_max_iterations: 1000,
             ppe_warm_start: true,
             ppe_solver: PpeSolver::Auto,

@@ -401,6 +401,7 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
             max_iterations: s.ppe_max_iterations,
             warm_start: s.ppe_warm_start,
             solver: s.ppe_solver,
+            volume_relaxation: s.volume_relaxation,
             preconditioner: match s.preconditioner {
                 PreconditionerChoice::Auto => Preconditioner::Adaptive,
                 PreconditionerChoice::Jacobi => Preconditioner::Jacobi,
@@ -473,6 +474,7 @@ fn solver_numbers(s: &SchemeSpec) -> Result<(), FieldError> {
     if s.ppe_max_iterations == 0 {
         return Err(field_err("scheme.ppe_max_iterations", "must be at least 1"));
     }
+    in_range("scheme.volume_relaxation", s.volume_relaxation, 0.0, 1.0)?;
     Ok(())
 }
 
@@ -508,6 +510,9 @@ fn method(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Method, Fi
     }
     if s.projection == ProjectionChoice::Incremental {
         return refuse("scheme.projection", "there is no projection");
+    }
+    if s.volume_relaxation != 0.0 {
+        return refuse("scheme.volume_relaxation", "there is no PPE (set 0)");
     }
     if s.contact_line_rows == ContactRows::Wall {
         return refuse(

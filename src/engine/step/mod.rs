@@ -48,6 +48,7 @@ use crate::engine::timing::{Stage, StageSeconds};
 use crate::engine::viscosity::{
     elastic_wave_speed, DtInputs, ShearDependentViscosity, ViscousStage,
 };
+use crate::engine::volume::VolumeRelaxation;
 use crate::engine::weakly_compressible::{MomentumInputs, WeakStage};
 use rayon::prelude::*;
 
@@ -207,7 +208,11 @@ impl Simulation {
             velocity_star: Vec::new(),
             bodies,
             projection: ProjectionStage::new(scheme.projection),
-            pressure: PressureStage::new(scheme.ppe, scheme.frame),
+            pressure: PressureStage::new(
+                scheme.ppe,
+                scheme.frame,
+                VolumeRelaxation::new(scheme.ppe.volume_relaxation, &kernel, setup.spacing),
+            ),
             weak: match scheme.method {
                 Method::Projection => None,
                 Method::WeaklyCompressible(w) => {
@@ -647,6 +652,8 @@ impl Simulation {
             let rows = dirichlet.unwrap_or_default();
             st.pressure
                 .assemble(hood, fluid.density, dt, rows, wall_pressure);
+            let surface = st.free_surface.as_ref().map(|fs| &fs.surface);
+            st.pressure.relax_volume((hood.0, hood.1), surface, dt);
         });
         let dirichlet = st
             .free_surface
