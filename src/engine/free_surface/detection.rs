@@ -26,8 +26,10 @@
 //!   surface is bunched, (36) can miss all of it, and then none of it is NS. Measured in
 //!   the 120° column of `cases/capillary-rise.toml`: the top row, 16 particles across a gap
 //!   of 10δr, had ⟨∇·r⟩ = 1.37–1.54 against thresholds near 1.3 (its concentration is below
-//!   the mean), so no particle between the plates carried the capillary pressure, and the
-//!   column stood pinned at 89 % of Jurin's depth.
+//!   the mean), and (36) took none of it. The exposure of NS particles recovered it only
+//!   from the FS particles the contact corners provide: 5 of its 16 particles, a run with no
+//!   FS neighbour, stayed interior, the capillary pressure acted on a surface with a gap in
+//!   it, and the column stood pinned at 89 % of Jurin's depth (t = 14 to 40).
 //!
 //! Mirror particles of a plate count as neighbours (a wall is not a free surface), but their
 //! own normals are not smoothed into a fluid particle's.
