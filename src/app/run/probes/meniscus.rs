@@ -26,7 +26,8 @@
 //!   not always: at θ = 120° (`cases/capillary-rise.toml`, t = 40) the column above the
 //!   plates' rounded ends held 11.7 % more particles than its surface encloses (the far
 //!   field 0.2 %), its top row bunched to about 0.55δr, so `gap_mean` read −0.514 where the
-//!   surface stood at −0.555 (Jurin −0.625).
+//!   surface stood at −0.555 (Jurin −0.625); with that row exposed since
+//!   ([`crate::engine::free_surface::detection`]), −0.531 against −0.593.
 
 use super::Probe;
 use crate::app::io::{self, SeriesRow};
