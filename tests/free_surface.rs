@@ -3,22 +3,26 @@
 //! unit tests in `src/surface.rs`.)
 
 use rheosph::engine::math::{Sym2, Vec2};
-use rheosph::engine::step::Simulation;
+use rheosph::engine::step::{Setup, Simulation};
 use rheosph::setup::case;
 use std::path::Path;
 use std::process::Command;
 
-/// The drop-impact case at W/δr = 20 with its initial velocity replaced and no gravity.
-fn free_drop(velocity: Vec2) -> Simulation {
-    let case = case::load(
-        Path::new("cases/drop-impact.toml"),
-        &["scene.resolution=20".into()],
-    )
-    .unwrap();
+/// The set-up of the drop-impact case at W/δr = 20 with `overrides`, its initial velocity
+/// replaced and no gravity.
+fn free_drop_setup(velocity: Vec2, overrides: &[String]) -> Setup {
+    let mut all = vec!["scene.resolution=20".to_string()];
+    all.extend_from_slice(overrides);
+    let case = case::load(Path::new("cases/drop-impact.toml"), &all).unwrap();
     let mut setup = case.setup();
     setup.velocity.iter_mut().for_each(|u| *u = velocity);
     setup.body_force = Vec2::zeros();
-    Simulation::new(setup)
+    setup
+}
+
+/// The drop-impact case at W/δr = 20 with its initial velocity replaced and no gravity.
+fn free_drop(velocity: Vec2) -> Simulation {
+    Simulation::new(free_drop_setup(velocity, &[]))
 }
 
 /// Runs to t* = tU/W = 1 (W = 0.02, U = 1) and returns the largest velocity deviation from
@@ -86,17 +90,10 @@ fn volume_relaxation_spreads_a_compressed_patch() {
     use rheosph::engine::kernel::QuinticSpline;
     let dr = 0.02 / 20.0;
     let excess = |alpha: f64| -> (f64, f64) {
-        let case = case::load(
-            Path::new("cases/drop-impact.toml"),
-            &[
-                "scene.resolution=20".into(),
-                format!("scheme.volume_relaxation={alpha}"),
-            ],
-        )
-        .unwrap();
-        let mut setup = case.setup();
-        setup.velocity.iter_mut().for_each(|u| *u = Vec2::zeros());
-        setup.body_force = Vec2::zeros();
+        let mut setup = free_drop_setup(
+            Vec2::zeros(),
+            &[format!("scheme.volume_relaxation={alpha}")],
+        );
         let n = setup.positions.len() as f64;
         let centre = setup.positions.iter().sum::<Vec2>() / n;
         for p in setup.positions.iter_mut() {
@@ -178,17 +175,10 @@ fn translating_drop_keeps_its_shape() {
 #[test]
 fn a_stressed_free_drop_keeps_its_momentum() {
     let drift = |detached: &str| {
-        let case = case::load(
-            Path::new("cases/drop-impact.toml"),
-            &[
-                "scene.resolution=20".into(),
-                format!("scheme.detached_momentum={detached}"),
-            ],
-        )
-        .unwrap();
-        let mut setup = case.setup();
-        setup.velocity.iter_mut().for_each(|u| *u = Vec2::zeros());
-        setup.body_force = Vec2::zeros();
+        let setup = free_drop_setup(
+            Vec2::zeros(),
+            &[format!("scheme.detached_momentum={detached}")],
+        );
         let mut sim = Simulation::new(setup);
         let mut seed: u64 = 12345;
         let mut uniform = || {
