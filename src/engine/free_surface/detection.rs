@@ -67,10 +67,6 @@ const WALL_CLEARANCE: f64 = 3.0;
 /// How much larger the scan region is for particles within [`WALL_CLEARANCE`] of a wall, in
 /// scenes with a contact angle ([`FreeSurface::scanning_beside_walls`]).
 const WALL_SCAN_SCALE: f64 = 1.5;
-/// Particles with a mirror nearer than this many spacings (a wall's first layer, within
-/// about δr of it) take no exposure test at all: there the contact corners close the
-/// surface ([`crate::engine::free_surface::wetting`]).
-const FIRST_LAYER_MIRROR: f64 = 1.5;
 
 /// The free-surface sets and normals of one particle configuration, with buffers reused from
 /// step to step.
@@ -119,10 +115,7 @@ impl FreeSurface {
     /// a hole in a meniscus at rest ([`WALL_CLEARANCE`]; the 60° rise's hole was 2.6δr
     /// wide). The larger disc holds the rim of a hole up to 2.8δr wide over a particle one
     /// or two spacings under it (the plain disc up to 2δr), while a particle of the surface
-    /// itself has the gas above it. A wall's first layer ([`FIRST_LAYER_MIRROR`]) is left
-    /// out: taken there too, the test flickered at the foot of the 40° sessile drop
-    /// (`tests/wetting.rs`), whose late speed rose from 1.4e-4 to 0.099 (4.0e-3 without the
-    /// first layer).
+    /// itself has the gas above it.
     pub fn scanning_beside_walls(mut self) -> Self {
         self.wall_scan = WALL_SCAN_SCALE;
         self
@@ -282,21 +275,9 @@ impl FreeSurface {
         let dr = kernel.h() / crate::engine::kernel::H_OVER_DR;
         let n = list.rows();
         let wall_reach2 = (WALL_CLEARANCE * dr).powi(2);
-        let first_layer2 = (FIRST_LAYER_MIRROR * dr).powi(2);
-        // The scan region's size for particle i, by its nearest mirror (0: no test).
-        let scan_scale = |i: usize| {
-            let nearest = list
-                .range(i)
-                .filter(|&k| list.index[k] as usize >= n)
-                .map(|k| list.rij[k].norm_squared())
-                .fold(f64::INFINITY, f64::min);
-            if nearest >= wall_reach2 {
-                1.0
-            } else if nearest >= first_layer2 {
-                self.wall_scan
-            } else {
-                0.0
-            }
+        let by_wall = |i: usize| {
+            list.range(i)
+                .any(|k| list.index[k] as usize >= n && list.rij[k].norm_squared() < wall_reach2)
         };
         let mut exposed = std::mem::take(&mut self.exposed);
         exposed.resize(n, false);
@@ -304,7 +285,7 @@ impl FreeSurface {
         let h2 = kernel.h() * kernel.h();
         exposed.par_iter_mut().enumerate().for_each(|(i, e)| {
             *e = this.exposure_normal(i, h2).is_some_and(|normal| {
-                let scale = scan_scale(i);
+                let scale = if by_wall(i) { this.wall_scan } else { 1.0 };
                 scale > 0.0 && scan_region_empty(list, i, normal, scale * dr)
             });
         });

@@ -346,10 +346,9 @@ mod tests {
 
     /// A block beside the wall x = 0 whose top row is bunched along the surface to 0.55δr
     /// (as the rows at a contact line become, `cases/capillary-rise.toml` at 30°): (36)
-    /// misses row particles from δr to 2.5δr from the wall, where the plain exposure test
-    /// does not look; with the wider scan beside walls the row is FS from the first layer
-    /// (the contact corners' business, [`Wetting::find_corners`]) to the block's middle,
-    /// and no particle of the row under it.
+    /// misses row particles within 2.5δr of the wall, where the plain exposure test does
+    /// not look; with the wider scan beside walls the row is FS from the wall to the block's
+    /// middle, and no particle of the row under it.
     #[test]
     fn a_bunched_row_beside_a_wall_is_exposed_by_the_wider_scan() {
         let dr = 0.1;
@@ -360,7 +359,7 @@ mod tests {
             .collect();
         let top = fluid.len();
         fluid.extend((0..29).map(|k| Vec2::new((k as f64 * 0.55 + 0.3) * dr, 9.5 * dr)));
-        let near_wall = |i: usize| (dr..2.5 * dr).contains(&fluid[i].x);
+        let near_wall = |i: usize| fluid[i].x < 2.5 * dr;
         let (_, _, plain) = beside_wall(&fluid, dr);
         let missed: Vec<usize> = (top..fluid.len())
             .filter(|&i| near_wall(i) && !plain.on_surface[i])
@@ -368,9 +367,8 @@ mod tests {
         assert!(!missed.is_empty(), "(36) took the whole row");
         let (_, _, wide) =
             beside_wall_with(FreeSurface::default().scanning_beside_walls(), &fluid, dr);
-        // The row beyond the first layer to the block's middle (its far end is the block's
-        // corner).
-        for i in (top..fluid.len()).filter(|&i| (dr..8.0 * dr).contains(&fluid[i].x)) {
+        // The row from the wall to the block's middle (its far end is the block's corner).
+        for i in (top..fluid.len()).filter(|&i| fluid[i].x < 8.0 * dr) {
             assert!(wide.on_surface[i], "{:?}", fluid[i] / dr);
         }
         for i in
