@@ -13,9 +13,7 @@
 //! * Exposed particles: an NS particle with a well-defined normal and no neighbour at all in
 //!   the scan region of Marrone et al. (2010) about its normal (a cone of half-angle 45° out
 //!   to √2 δr, and the disc of radius δr centred δr out) joins FS, and NS and the normals are
-//!   evaluated again; not within about 2.5δr of a wall (see [`WALL_CLEARANCE`]), except on a
-//!   wider scan region in scenes with a contact angle
-//!   ([`FreeSurface::scanning_beside_walls`]). (36) alone
+//!   evaluated again; not within about 1.5δr of a wall (see [`WALL_CLEARANCE`]). (36) alone
 //!   misses a
 //!   particle at the bottom of a dent: the surface curving up on both sides fills its support
 //!   enough to pass for interior. Its PPE row then has no Dirichlet value, and a pressure
@@ -64,9 +62,6 @@ const CONE_COS: f64 = std::f64::consts::FRAC_1_SQRT_2;
 /// 1.8δr from a plate and two spacings under the surface, whose Dirichlet values then kicked
 /// the pool (`cases/capillary-rise.toml`, θ = 60°, t = 15.9: speeds 0.02 → 0.68).
 const WALL_CLEARANCE: f64 = 3.0;
-/// How much larger the scan region is for particles within [`WALL_CLEARANCE`] of a wall, in
-/// scenes with a contact angle ([`FreeSurface::scanning_beside_walls`]).
-const WALL_SCAN_SCALE: f64 = 1.5;
 
 /// The free-surface sets and normals of one particle configuration, with buffers reused from
 /// step to step.
@@ -94,8 +89,6 @@ pub struct FreeSurface {
     raw_normal: Vec<Vec2>,
     /// Scratch of the exposure test: which particles it adds to FS.
     exposed: Vec<bool>,
-    /// The exposure test's scan region beside a wall, in spacings (0: no test there).
-    wall_scan: f64,
 }
 
 impl FreeSurface {
@@ -105,20 +98,6 @@ impl FreeSurface {
             blend_width,
             ..Self::default()
         }
-    }
-
-    /// The exposure test also runs within [`WALL_CLEARANCE`] of a wall, on a scan region
-    /// [`WALL_SCAN_SCALE`] times as large (a cone to 2.1δr, the disc of radius 1.5δr centred
-    /// 1.5δr out), for scenes with a contact angle, where the capillary pressure of a
-    /// surface particle (36) misses is lost. There the surface rows bunch and thin at the
-    /// contact lines (module docs), and the region of the plain test caught particles under
-    /// a hole in a meniscus at rest ([`WALL_CLEARANCE`]; the 60° rise's hole was 2.6δr
-    /// wide). The larger disc holds the rim of a hole up to 2.8δr wide over a particle one
-    /// or two spacings under it (the plain disc up to 2δr), while a particle of the surface
-    /// itself has the gas above it.
-    pub fn scanning_beside_walls(mut self) -> Self {
-        self.wall_scan = WALL_SCAN_SCALE;
-        self
     }
 
     /// Heap bytes held.
@@ -284,10 +263,9 @@ impl FreeSurface {
         let this = &*self;
         let h2 = kernel.h() * kernel.h();
         exposed.par_iter_mut().enumerate().for_each(|(i, e)| {
-            *e = this.exposure_normal(i, h2).is_some_and(|normal| {
-                let scale = if by_wall(i) { this.wall_scan } else { 1.0 };
-                scale > 0.0 && scan_region_empty(list, i, normal, scale * dr)
-            });
+            *e = this
+                .exposure_normal(i, h2)
+                .is_some_and(|normal| !by_wall(i) && scan_region_empty(list, i, normal, dr));
         });
         let any = self.join(&exposed);
         self.exposed = exposed;

@@ -196,17 +196,13 @@ impl FreeSurfaceStage {
         wetting: Option<Wetting>,
     ) -> Self {
         let (rule, contact_rows) = (options.pressure, options.contact_rows);
-        let mut surface = FreeSurface::with_blend_width(options.indicator.width());
-        if surface_tension > 0.0 && wetting.is_some() {
-            surface = surface.scanning_beside_walls();
-        }
         let tension = (surface_tension > 0.0).then(|| {
             let mut t = SurfaceTension::new(surface_tension, spacing, options.time_level);
             t.wetting = wetting;
             t
         });
         Self {
-            surface,
+            surface: FreeSurface::with_blend_width(options.indicator.width()),
             rule: rule.rule(options.gradient),
             tension,
             dirichlet: Vec::new(),
