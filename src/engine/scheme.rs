@@ -70,6 +70,8 @@ pub struct Scheme {
     pub surface_tension: SurfaceTensionForm,
     /// Where in the step the capillary pressure's curvature is taken.
     pub capillary_time_level: crate::engine::free_surface::CapillaryTimeLevel,
+    /// How a contact particle's curvature is found.
+    pub contact_curvature: crate::engine::free_surface::ContactCurvature,
     /// The viscous term's tangential flux through a free surface.
     pub surface_shear: crate::engine::free_surface::SurfaceShear,
     /// Free surfaces: whether surface membership is sharp (36) or blended.

@@ -6,8 +6,8 @@
 use crate::engine::boundary::{TensorMirror, WallModel, WallPressure};
 use crate::engine::frame::Frame;
 use crate::engine::free_surface::{
-    CapillaryTimeLevel, ContactRows, DetachedMomentum, SurfaceGradient, SurfaceIndicator,
-    SurfacePressure, SurfaceShear, SurfaceTensionForm,
+    CapillaryTimeLevel, ContactCurvature, ContactRows, DetachedMomentum, SurfaceGradient,
+    SurfaceIndicator, SurfacePressure, SurfaceShear, SurfaceTensionForm,
 };
 use crate::engine::operators::{GradientOrder, LaplacianOrder};
 use crate::engine::rheology::{ConformationScheme, Remap};
@@ -339,6 +339,11 @@ pub struct SchemeSpec {
     /// (rⁿ + (δt/2)uⁿ, no damping of a capillary mode from the step): where the capillary
     /// pressure's curvature is taken; see `engine::free_surface::tension`.
     pub capillary_time_level: CapillaryTimeLevel,
+    /// `fit` (the contact particle's parabola over the real surface and its continuation
+    /// beyond the wall) or `turn` (the circle leaving the wall at θ through its surface
+    /// neighbours, which acts at any error of the angle); see
+    /// `engine::free_surface::wetting`.
+    pub contact_curvature: ContactCurvature,
     /// Free surfaces: `sharp` ((36) decides, the paper's) or `blended` (a particle (36) has
     /// just taken into FS counts partly, rising to full weight a tenth of ⟨∇·r⟩ further in);
     /// see `engine::free_surface::SurfaceIndicator`.
@@ -406,6 +411,7 @@ impl Default for SchemeSpec {
             surface_repulsion: true,
             surface_tension: SurfaceTensionForm::NormalStress,
             capillary_time_level: CapillaryTimeLevel::Predicted,
+            contact_curvature: ContactCurvature::Fit,
             surface_indicator: SurfaceIndicator::Sharp,
             surface_shear: SurfaceShear::Truncated,
             detached_momentum: DetachedMomentum::Conserved,

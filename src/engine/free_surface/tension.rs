@@ -38,7 +38,7 @@
 //! box at t = 2.75 (cause not traced further), where at r* it comes to rest at 40.5°. So r*
 //! stays the default, and the free drops' cases take the midpoint.
 
-use crate::engine::free_surface::wetting::{ContactLine, Wetting};
+use crate::engine::free_surface::wetting::{ContactCurvature, ContactLine, Wetting};
 use crate::engine::free_surface::FreeSurface;
 use crate::engine::kernel::QuinticSpline;
 use crate::engine::math::Vec2;
@@ -164,7 +164,10 @@ impl SurfaceTension {
         let n = list.rows();
         self.curvature.resize(n, 0.0);
         let (kernel, offset) = (&self.kernel, self.offset);
-        let lines = self.wetting.as_ref().map(|w| w.lines.as_slice());
+        let lines = self
+            .wetting
+            .as_ref()
+            .map(|w| (w.lines.as_slice(), w.curvature));
         let lag = Lag(&self.lag);
         self.curvature
             .par_iter_mut()
@@ -196,7 +199,9 @@ fn at_surface(kappa: f64, offset: f64) -> f64 {
 /// away from its outward normal, as on a drop). Only FS neighbours facing the same way
 /// (n_j·n_i > 1/2) count, so the far side of a thin thread does not. Near a contact line
 /// (`lines`, see [`super::wetting`]) the surface beyond the contact particle is its
-/// continuation at the contact angle instead of whatever lies there. Each neighbour's
+/// continuation at the contact angle instead of whatever lies there; the contact particle
+/// itself takes [`ContactLine::turned_curvature`] instead under [`ContactCurvature::Turn`]
+/// (where that is defined). Each neighbour's
 /// weight is W times its FS weight ([`FreeSurface::weight`]: 1 unless the surface indicator
 /// is blended). None with fewer than three points or a degenerate fit.
 fn fitted_curvature(
@@ -204,12 +209,21 @@ fn fitted_curvature(
     (list, lag): (&NeighbourList, Lag),
     surface: &FreeSurface,
     kernel: &QuinticSpline,
-    lines: Option<&[Option<ContactLine>]>,
+    lines: Option<(&[Option<ContactLine>], ContactCurvature)>,
 ) -> Option<f64> {
     let ni = surface.normal[i];
+    let contact = lines.and_then(|(l, _)| contact_of(i, (list, lag), surface, l));
+    if let Some((_, line, c)) = contact.filter(|&(_, _, c)| c == i) {
+        if lines.is_some_and(|(_, rule)| rule == ContactCurvature::Turn) {
+            let ahead = facing_surface(c, (list, lag), surface, ni)
+                .map(|(j, r)| (r, surface.weight(j) * kernel.value(r.norm())));
+            if let Some(kappa) = line.turned_curvature(ahead) {
+                return Some(kappa);
+            }
+        }
+    }
     let mut fit = ParabolaFit::new(ni, kernel);
     fit.add(Vec2::zeros());
-    let contact = lines.and_then(|l| contact_of(i, (list, lag), surface, l));
     let real_side = |r: Vec2| contact.is_none_or(|(c, line, _)| line.on_real_side(r - c));
     for (j, r) in facing_surface(i, (list, lag), surface, ni) {
         if real_side(r) {
