@@ -211,8 +211,13 @@ impl PressureStage {
         let Some(volume) = self.volume else {
             return;
         };
-        let full = |i: usize| surface.is_none_or(|s| !s.on_surface[i] && !s.near_surface[i]);
-        volume.add_source((list, sums), full, dt, &mut self.system.rhs);
+        use crate::engine::volume::RowSupport;
+        let support = |i: usize| match surface {
+            Some(s) if s.on_surface[i] => RowSupport::Dirichlet,
+            Some(s) if s.near_surface[i] => RowSupport::Truncated,
+            _ => RowSupport::Full,
+        };
+        volume.add_source((list, sums), support, dt, &mut self.system.rhs);
     }
 
     /// The particle configuration changed: the matrix (and any LU factors) must be rebuilt.
