@@ -131,9 +131,11 @@ fn the_tank_walls_angle_is_validated() {
             .to_string()
     };
     assert!(bad(&["scene.wall_contact_angle=170"]).contains("scene.wall_contact_angle"));
+    // The case's volume source belongs to the PPE, which the weakly compressible method has not.
     let cohesion = [
         "scene.wall_contact_angle=90",
         "scheme.method=wcsph",
+        "scheme.volume_relaxation=0",
         "scheme.surface_tension=cohesion",
     ];
     assert!(bad(&cohesion).contains("scene.wall_contact_angle"));
