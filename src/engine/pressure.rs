@@ -211,12 +211,7 @@ impl PressureStage {
         let Some(volume) = self.volume else {
             return;
         };
-        use crate::engine::volume::RowSupport;
-        let support = |i: usize| match surface {
-            Some(s) if s.on_surface[i] => RowSupport::Dirichlet,
-            Some(s) if s.near_surface[i] => RowSupport::Truncated,
-            _ => RowSupport::Full,
-        };
+        let support = |i| crate::engine::volume::RowSupport::of(surface, i);
         volume.add_source((list, sums), support, dt, &mut self.system.rhs);
     }
 

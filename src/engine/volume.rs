@@ -48,6 +48,17 @@ pub enum RowSupport {
     Dirichlet,
 }
 
+impl RowSupport {
+    /// Row i's support under `surface` (every row full without a free surface).
+    pub fn of(surface: Option<&crate::engine::free_surface::FreeSurface>, i: usize) -> Self {
+        match surface {
+            Some(s) if s.on_surface[i] => RowSupport::Dirichlet,
+            Some(s) if s.near_surface[i] => RowSupport::Truncated,
+            _ => RowSupport::Full,
+        }
+    }
+}
+
 /// The relaxation of the particle concentration towards the lattice's, chosen at set-up
 /// (`scheme.volume_relaxation` > 0).
 #[derive(Clone, Copy, Debug)]
@@ -199,12 +210,8 @@ mod tests {
                 .collect();
             let (list, sums, surface) =
                 crate::engine::free_surface::surface_of(&domain, &points, dr);
-            let rows = |i: usize| match i {
-                i if surface.on_surface[i] => RowSupport::Dirichlet,
-                i if surface.near_surface[i] => RowSupport::Truncated,
-                _ => RowSupport::Full,
-            };
             let mut rhs = vec![0.0; points.len()];
+            let rows = |i| RowSupport::of(Some(&surface), i);
             relax.add_source((&list, &sums), rows, 0.1, &mut rhs);
             (rhs, surface)
         };
