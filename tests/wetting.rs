@@ -182,6 +182,31 @@ fn a_pool_at_rest_stays_at_rest_with_gravity_in_the_reduced_pressure() {
     assert!(refused.contains("scheme.gravity"), "{refused}");
 }
 
+/// `scene.plates.fill` starts the column between the plates above (or below) the pool's
+/// depth: the shipped case (d = 0.4 = 10δr) gains 10 particles per row, 35 rows for a fill
+/// of 1.4, loses 10 per row down to the rounded ends' centres, and refuses a column below
+/// them or above the box, naming the field.
+#[test]
+fn the_column_between_the_plates_starts_where_asked() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/capillary-rise.toml");
+    let load = |o: &[&str]| {
+        let o: Vec<String> = o.iter().map(|s| s.to_string()).collect();
+        rheosph::setup::case::load(&path, &o)
+    };
+    let particles = |fill: &str| {
+        let case = load(&[&format!("scene.plates.fill={fill}")]).unwrap();
+        case.scene.particles() as i64
+    };
+    let base = load(&[]).unwrap().scene.particles() as i64;
+    assert_eq!(particles("0"), base);
+    assert_eq!(particles("1.4") - base, 350);
+    assert_eq!(particles("-0.4") - base, -100);
+    for bad in ["-0.9", "1.7", "nan"] {
+        let e = load(&[&format!("scene.plates.fill={bad}")]).unwrap_err();
+        assert!(e.to_string().contains("scene.plates.fill"), "{e}");
+    }
+}
+
 /// How far the far level of `meniscus.toml` with `overrides` moved over the run, and the
 /// largest particle speed.
 fn pool_drift(overrides: &[&str]) -> (f64, f64) {

@@ -58,6 +58,16 @@ pub struct PlatesTable {
     /// Height of the plates' lower ends (the lowest point of their rounded ends) above the
     /// floor.
     pub bottom: f64,
+    /// The liquid's height between the plates at the start, above the pool's `depth`
+    /// (negative: below it), rounded to whole rows: a column started near its static height
+    /// settles in a fraction of the time a rise from the level takes, and two starts, one
+    /// above and one below, bracket the static column of the discrete model. 0 by default.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub fill: f64,
+}
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
 }
 
 /// A validated pool.
@@ -72,6 +82,8 @@ pub struct Pool {
     pub wall_contact_angle: f64,
     /// The two plates (left, right), if any.
     pub plates: Option<[Plate; 2]>,
+    /// The liquid's height between the plates at the start (`scene.plates.fill`).
+    pub gap_level: f64,
 }
 
 impl PoolSpec {
@@ -99,6 +111,13 @@ impl PoolSpec {
             .as_ref()
             .map(|p| p.validate(length, depth, dr))
             .transpose()?;
+        let gap_level = match &self.plates {
+            Some(p) => {
+                let lowest = plates.map_or(depth, |[l, _]| l.end().centre.y);
+                in_range("scene.plates.fill", p.fill, lowest - depth, height - depth)? + depth
+            }
+            None => depth,
+        };
         Ok(Pool {
             bounds: SceneBox {
                 length,
@@ -110,6 +129,7 @@ impl PoolSpec {
             contact_angle: theta.to_radians(),
             wall_contact_angle: wall_theta.to_radians(),
             plates,
+            gap_level,
         })
     }
 }
@@ -205,13 +225,17 @@ impl Pool {
         (fluid.surface_tension / (fluid.density * self.gravity.norm())).sqrt()
     }
 
-    /// The particles of the liquid at rest: a square lattice over the tank to `depth`, none
-    /// inside a plate.
+    /// The particles of the liquid at rest: a square lattice over the tank to `depth`, and to
+    /// `gap_level` between the plates, none inside a plate.
     fn positions(&self) -> Vec<Vec2> {
         let dr = self.spacing();
         let half = 0.5 * self.bounds.length;
         let columns = (self.bounds.length / dr).round() as usize;
-        let rows = (self.depth / dr).round() as usize;
+        let rows_to = |y: f64| (y / dr).round() as usize;
+        let between = |x: f64| match self.plates {
+            Some([l, r]) => x > l.right && x < r.left,
+            None => false,
+        };
         // Off the plates, and a tenth of a spacing off their rounded ends.
         let inside = |p: &Vec2| {
             self.plates
@@ -221,8 +245,13 @@ impl Pool {
         };
         (0..columns)
             .flat_map(|i| {
-                (0..rows)
-                    .map(move |j| Vec2::new(-half + (i as f64 + 0.5) * dr, (j as f64 + 0.5) * dr))
+                let x = -half + (i as f64 + 0.5) * dr;
+                let top = if between(x) {
+                    self.gap_level
+                } else {
+                    self.depth
+                };
+                (0..rows_to(top)).map(move |j| Vec2::new(x, (j as f64 + 0.5) * dr))
             })
             .filter(|p| !inside(p))
             .collect()
