@@ -72,6 +72,8 @@ pub struct Scheme {
     pub capillary_time_level: crate::engine::free_surface::CapillaryTimeLevel,
     /// How a contact particle's curvature is found.
     pub contact_curvature: crate::engine::free_surface::ContactCurvature,
+    /// Which curve meets a wall at the contact angle: the centres' or the surface's.
+    pub contact_angle_at: crate::engine::free_surface::ContactAngleAt,
     /// The viscous term's tangential flux through a free surface.
     pub surface_shear: crate::engine::free_surface::SurfaceShear,
     /// Free surfaces: whether surface membership is sharp (36) or blended.

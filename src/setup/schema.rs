@@ -6,8 +6,8 @@
 use crate::engine::boundary::{TensorMirror, WallModel, WallPressure};
 use crate::engine::frame::Frame;
 use crate::engine::free_surface::{
-    CapillaryTimeLevel, ContactCurvature, ContactRows, DetachedMomentum, SurfaceGradient,
-    SurfaceIndicator, SurfacePressure, SurfaceShear, SurfaceTensionForm,
+    CapillaryTimeLevel, ContactAngleAt, ContactCurvature, ContactRows, DetachedMomentum,
+    SurfaceGradient, SurfaceIndicator, SurfacePressure, SurfaceShear, SurfaceTensionForm,
 };
 use crate::engine::operators::{GradientOrder, LaplacianOrder};
 use crate::engine::rheology::{ConformationScheme, Remap};
@@ -344,6 +344,10 @@ pub struct SchemeSpec {
     /// neighbours, which acts at any error of the angle); see
     /// `engine::free_surface::wetting`.
     pub contact_curvature: ContactCurvature,
+    /// `centres` (the curve through the surface particles' centres meets the wall at θ) or
+    /// `surface` (the surface half a spacing beyond them does, whose curvature the capillary
+    /// pressure takes); see `engine::free_surface::wetting`.
+    pub contact_angle_at: ContactAngleAt,
     /// Free surfaces: `sharp` ((36) decides, the paper's) or `blended` (a particle (36) has
     /// just taken into FS counts partly, rising to full weight a tenth of ⟨∇·r⟩ further in);
     /// see `engine::free_surface::SurfaceIndicator`.
@@ -412,6 +416,7 @@ impl Default for SchemeSpec {
             surface_tension: SurfaceTensionForm::NormalStress,
             capillary_time_level: CapillaryTimeLevel::Predicted,
             contact_curvature: ContactCurvature::Fit,
+            contact_angle_at: ContactAngleAt::Centres,
             surface_indicator: SurfaceIndicator::Sharp,
             surface_shear: SurfaceShear::Truncated,
             detached_momentum: DetachedMomentum::Conserved,

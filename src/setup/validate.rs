@@ -425,6 +425,7 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
         surface_tension: s.surface_tension,
         capillary_time_level: s.capillary_time_level,
         contact_curvature: s.contact_curvature,
+        contact_angle_at: s.contact_angle_at,
         surface_indicator: s.surface_indicator,
         surface_shear: s.surface_shear,
         detached_momentum: s.detached_momentum,

@@ -42,7 +42,7 @@ pub use detection::{FreeSurface, NEAR_SURFACE_STRENGTH};
 pub use pressure::{SurfaceGradient, SurfaceInputs, SurfacePressure, SurfacePressureRule};
 pub use shear_free::{ShearFreeSurface, SurfaceShear};
 pub use tension::{CapillaryTimeLevel, SurfaceTension};
-pub use wetting::{ContactCurvature, Wetting};
+pub use wetting::{ContactAngleAt, ContactCurvature, Wetting};
 
 use crate::engine::boundary::Ghosts;
 use crate::engine::kernel::QuinticSpline;

@@ -90,6 +90,9 @@ pub struct SurfaceTension {
     lag: Vec<Vec2>,
     /// The fluid positions at the time level of κ (for the contact lines).
     lagged: Vec<Vec2>,
+    /// The contact lines turned to each particle's own curvature
+    /// ([`ContactLine::for_curvature`]) when the angle holds at the surface.
+    turned: Vec<Option<ContactLine>>,
 }
 
 impl SurfaceTension {
@@ -103,6 +106,7 @@ impl SurfaceTension {
             level,
             lag: Vec::new(),
             lagged: Vec::new(),
+            turned: Vec::new(),
         }
     }
 
@@ -111,6 +115,7 @@ impl SurfaceTension {
         crate::engine::vec_bytes(&self.curvature)
             + crate::engine::vec_bytes(&self.lag)
             + crate::engine::vec_bytes(&self.lagged)
+            + crate::engine::vec_bytes(&self.turned)
             + self.wetting.as_ref().map_or(0, Wetting::heap_bytes)
     }
 
@@ -163,11 +168,16 @@ impl SurfaceTension {
     pub fn update_curvature(&mut self, list: &NeighbourList, surface: &FreeSurface) {
         let n = list.rows();
         self.curvature.resize(n, 0.0);
+        self.turn_lines(list, surface);
         let (kernel, offset) = (&self.kernel, self.offset);
-        let lines = self
-            .wetting
-            .as_ref()
-            .map(|w| (w.lines.as_slice(), w.curvature));
+        let lines = self.wetting.as_ref().map(|w| {
+            let lines = if w.at_surface() {
+                self.turned.as_slice()
+            } else {
+                w.lines.as_slice()
+            };
+            (lines, w.curvature)
+        });
         let lag = Lag(&self.lag);
         self.curvature
             .par_iter_mut()
@@ -180,6 +190,30 @@ impl SurfaceTension {
                     0.0
                 };
             });
+    }
+}
+
+impl SurfaceTension {
+    /// Where the angle holds at the surface ([`super::wetting::ContactAngleAt::Surface`]):
+    /// each contact line turned to the curvature its particle's fit (or turn) takes with the
+    /// lines as the wall gives them, into [`Self::turned`]. One pass: the continuation
+    /// reaches the contact particle's own curvature only through images at the edge of its
+    /// support ([`super::wetting`]).
+    fn turn_lines(&mut self, list: &NeighbourList, surface: &FreeSurface) {
+        let Some(wetting) = self.wetting.as_ref().filter(|w| w.at_surface()) else {
+            return;
+        };
+        let mut turned = std::mem::take(&mut self.turned);
+        turned.resize(list.rows(), None);
+        let (kernel, lag) = (&self.kernel, Lag(&self.lag));
+        let lines = Some((wetting.lines.as_slice(), wetting.curvature));
+        turned.par_iter_mut().enumerate().for_each(|(i, out)| {
+            *out = wetting.lines[i].map(|line| {
+                fitted_curvature(i, (list, lag), surface, kernel, lines)
+                    .map_or(line, |k| line.for_curvature(k))
+            });
+        });
+        self.turned = turned;
     }
 }
 
