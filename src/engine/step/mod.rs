@@ -162,11 +162,8 @@ impl Simulation {
             let angles = walls
                 .iter()
                 .map(|w| (w.shape, w.contact_angle.unwrap_or(theta)));
-            Wetting::per_wall(
-                angles.collect(),
-                setup.spacing,
-                (scheme.contact_curvature, scheme.contact_angle_at),
-            )
+            let rules = (scheme.contact_curvature, scheme.contact_angle_at);
+            Wetting::per_wall(angles.collect(), setup.spacing, rules)
         });
         let bodies = Bodies::new(
             (setup.discs, setup.contact, setup.gravity),
