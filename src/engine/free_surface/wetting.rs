@@ -550,6 +550,34 @@ mod tests {
         assert!(line.continuation(w - line.along * 0.2).is_none());
     }
 
+    /// The circular arc of `radius` leaving the wall point (0, 0) of the wall x = 0 at `theta`,
+    /// along t = (sin θ, −cos θ), bending towards m = (cos θ, sin θ) (concave, `bend` 1) or
+    /// away from it (convex, −1), by its arc length.
+    fn meniscus_arc(theta: f64, radius: f64, bend: f64) -> impl Fn(f64) -> Vec2 {
+        let (t, m) = (
+            Vec2::new(theta.sin(), -theta.cos()),
+            Vec2::new(theta.cos(), theta.sin()),
+        );
+        move |s: f64| {
+            let a = s / radius;
+            t * radius * a.sin() + m * bend * radius * (1.0 - a.cos())
+        }
+    }
+
+    /// The arc length at which `arc` reaches the distance `d` from the wall (bisection).
+    fn arc_reaching(arc: &impl Fn(f64) -> Vec2, d: f64) -> f64 {
+        let (mut lo, mut hi) = (0.0, 8.0);
+        for _ in 0..100 {
+            let mid = 0.5 * (lo + hi);
+            if arc(mid).x < d {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        lo
+    }
+
     /// [`ContactLine::turned_curvature`] on the surface through the centres of a circular
     /// meniscus meeting the vertical wall x = 0 at θ (concave below 90°, convex above),
     /// the contact particle d from the wall and its neighbours δr apart along the arc,
@@ -567,24 +595,10 @@ mod tests {
                 for d in [0.3, 0.5, 0.8] {
                     // The arc leaves the wall point (0, 0) along t = (sin θ, −cos θ),
                     // bending towards m (concave) or away from it (convex).
-                    let (t, m) = (
-                        Vec2::new(theta.sin(), -theta.cos()),
-                        Vec2::new(theta.cos(), theta.sin()),
-                    );
                     let bend = if theta < FRAC_PI_2 { 1.0 } else { -1.0 };
-                    let arc = |s: f64| {
-                        let a = s / radius;
-                        t * radius * a.sin() + m * bend * radius * (1.0 - a.cos())
-                    };
-                    let (mut lo, mut hi) = (0.0, 8.0);
-                    for _ in 0..100 {
-                        let mid = 0.5 * (lo + hi);
-                        if arc(mid).x < d {
-                            lo = mid;
-                        } else {
-                            hi = mid;
-                        }
-                    }
+                    let m = Vec2::new(theta.cos(), theta.sin());
+                    let arc = meniscus_arc(theta, radius, bend);
+                    let lo = arc_reaching(&arc, d);
                     let c = arc(lo);
                     let line = w.line(&c, m).unwrap();
                     let ahead = (1..4).map(|k| {
@@ -630,24 +644,10 @@ mod tests {
             for surface_radius in [5.8, 10.0, 20.0] {
                 let radius = surface_radius + bend * 0.5 * dr;
                 let theta_c = (theta.cos() * surface_radius / radius).acos();
-                let (t, m) = (
-                    Vec2::new(theta_c.sin(), -theta_c.cos()),
-                    Vec2::new(theta_c.cos(), theta_c.sin()),
-                );
-                let arc = |s: f64| {
-                    let a = s / radius;
-                    t * radius * a.sin() + m * bend * radius * (1.0 - a.cos())
-                };
-                let (mut lo, mut hi) = (0.0, 8.0);
-                for _ in 0..100 {
-                    let mid = 0.5 * (lo + hi);
-                    if arc(mid).x < 0.5 * dr {
-                        lo = mid;
-                    } else {
-                        hi = mid;
-                    }
-                }
-                let c = arc(lo);
+                let m = Vec2::new(theta_c.cos(), theta_c.sin());
+                let arc = meniscus_arc(theta_c, radius, bend);
+                let lo = arc_reaching(&arc, 0.5 * dr);
+                let (c, arc) = (arc(lo), &arc);
                 let ahead = || {
                     (1..4).map(move |k| {
                         let q = arc(lo + k as f64 * dr) - c;
