@@ -299,6 +299,30 @@ impl FreeSurface {
         any
     }
 
+    /// Takes the particles `flags` marks out of FS (their margin set to −∞) and evaluates NS
+    /// and the normals again; whether any was taken out (a hollow under a wall's contact line,
+    /// [`crate::engine::free_surface::wetting`]).
+    pub fn remove(
+        &mut self,
+        flags: &[bool],
+        list: &NeighbourList,
+        sums: &KernelSums,
+        kernel: &QuinticSpline,
+    ) -> bool {
+        let mut any = false;
+        for ((s, &e), margin) in self.on_surface.iter_mut().zip(flags).zip(&mut self.margin) {
+            if e && *s {
+                *s = false;
+                *margin = f64::NEG_INFINITY;
+                any = true;
+            }
+        }
+        if any {
+            self.near_and_normals(list, sums, kernel);
+        }
+        any
+    }
+
     /// Adds the particles `flags` marks to FS and evaluates NS and the normals again
     /// (a wall's contact corner, [`crate::engine::free_surface::wetting`]).
     pub fn add(

@@ -252,7 +252,8 @@ impl FreeSurfaceStage {
 
     /// Step 2: detection (36)–(37) and normals (38)–(39), at the positions `points` (fluid
     /// first); with a contact angle, the walls' contact corners join FS
-    /// ([`Wetting::find_corners`]). Rows in `prescribed` (an inflow buffer) take Dirichlet
+    /// ([`Wetting::find_corners`]) and the hollows under their contact lines leave it
+    /// ([`Wetting::find_hollows`]). Rows in `prescribed` (an inflow buffer) take Dirichlet
     /// rows and are not near the surface themselves.
     pub fn detect(
         &mut self,
@@ -264,6 +265,9 @@ impl FreeSurfaceStage {
         if let Some(w) = self.tension.as_mut().and_then(|t| t.wetting.as_mut()) {
             if w.find_corners(points, list, &self.surface) {
                 self.surface.add(w.corner_buffer(), list, sums, kernel);
+            }
+            if w.find_hollows(points, list, &self.surface) {
+                self.surface.remove(w.hollow_buffer(), list, sums, kernel);
             }
         }
         for (i, _) in prescribed.iter().enumerate().filter(|(_, &b)| b) {
