@@ -98,6 +98,7 @@ fn wcsph_keys_are_validated() {
     };
     assert!(bad(&["scheme.frame=\"eulerian\""]).contains("scheme.frame"));
     assert!(bad(&["scheme.evss_alpha=0.1"]).contains("scheme.evss_alpha"));
+    assert!(bad(&["scheme.hourglass_control=0.2"]).contains("scheme.hourglass_control"));
     assert!(bad(&["scheme.artificial_stress=2"]).contains("scheme.artificial_stress"));
     assert!(bad(&["scheme.sound_speed=-1"]).contains("scheme.sound_speed"));
     assert!(bad(&["scheme.density_diffusion=-0.1"]).contains("scheme.density_diffusion"));

@@ -32,6 +32,8 @@ pub struct Scheme {
     pub shifting: bool,
     /// α_V of the EVSS splitting, eqs. (6)–(8).
     pub evss_alpha: f64,
+    /// ξ of the hourglass control (0 = off), `engine::rheology::hourglass`.
+    pub hourglass_control: f64,
     /// The factor 0.2 of the time-step rule (28).
     pub dt_factor: f64,
     pub viscosity: Viscosity,

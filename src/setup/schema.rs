@@ -265,6 +265,9 @@ pub struct SchemeSpec {
     pub shifting: bool,
     /// α_V of the EVSS splitting, eqs. (6)–(8).
     pub evss_alpha: f64,
+    /// ξ of the polymer stress's hourglass control (0 = off; see
+    /// `engine::rheology::hourglass`).
+    pub hourglass_control: f64,
     /// The factor 0.2 of the time-step rule (28).
     pub dt_factor: f64,
     /// `explicit` (the paper) or `implicit` solvent and EVSS viscosity.
@@ -384,6 +387,7 @@ impl Default for SchemeSpec {
             conformation_remap: RemapChoice::Auto,
             shifting: true,
             evss_alpha: 0.0,
+            hourglass_control: 0.0,
             dt_factor: 0.2,
             viscosity: Viscosity::Explicit,
             ppe_tolerance: 1e-8,

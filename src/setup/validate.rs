@@ -311,16 +311,9 @@ fn generalised_newtonian(
     })
 }
 
-fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, FieldError> {
-    let open = scene.has_free_surface();
-    let method = method(s, scene, fluid)?;
-    // 0 restores the stability rules (so `--set` can undo a case file's fixed step).
-    let time_step = s
-        .time_step
-        .filter(|&dt| dt != 0.0)
-        .map(|dt| positive("scheme.time_step", dt))
-        .transpose()?;
-    if open && s.frame == Frame::Eulerian {
+/// The Eulerian frame keeps its particles, which neither a free surface nor a moving disc allows.
+fn frame_fits(s: &SchemeSpec, scene: &dyn Scene) -> Result<(), FieldError> {
+    if scene.has_free_surface() && s.frame == Frame::Eulerian {
         return Err(field_err(
             "scheme.frame",
             "a free-surface flow needs moving particles: lagrangian",
@@ -332,7 +325,22 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
             "a moving disc needs moving particles (the Eulerian frame keeps its neighbourhoods fixed): lagrangian",
         ));
     }
+    Ok(())
+}
+
+fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, FieldError> {
+    let open = scene.has_free_surface();
+    let method = method(s, scene, fluid)?;
+    // 0 restores the stability rules (so `--set` can undo a case file's fixed step).
+    let time_step = s
+        .time_step
+        .filter(|&dt| dt != 0.0)
+        .map(|dt| positive("scheme.time_step", dt))
+        .transpose()?;
+    frame_fits(s, scene)?;
     let evss_alpha = in_range("scheme.evss_alpha", s.evss_alpha, 0.0, 1.0)?;
+    // Explicit: ν δt/h² = ξ × the elastic Courant number (≤ 2), so ξ ≤ 1 keeps it stable.
+    let hourglass_control = in_range("scheme.hourglass_control", s.hourglass_control, 0.0, 1.0)?;
     let viscous_tolerance = s.viscous_tolerance;
     if !(viscous_tolerance > 0.0 && viscous_tolerance <= 1e-2) {
         return Err(field_err(
@@ -369,6 +377,7 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
         conformation_remap: s.conformation_remap.resolve(s.frame),
         shifting: s.shifting,
         evss_alpha,
+        hourglass_control,
         dt_factor: s.dt_factor,
         viscosity: s.viscosity,
         projection: match s.projection {
@@ -502,6 +511,12 @@ fn method(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Method, Fi
         return refuse(
             "scheme.evss_alpha",
             "the polymer stress enters whole in the symmetric form, without EVSS (set 0)",
+        );
+    }
+    if s.hourglass_control != 0.0 {
+        return refuse(
+            "scheme.hourglass_control",
+            "it acts on the projection's nested stress divergence, which is not formed (set 0)",
         );
     }
     if fluid.surface_tension > 0.0 && s.surface_tension != SurfaceTensionForm::Cohesion {

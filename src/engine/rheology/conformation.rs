@@ -242,6 +242,11 @@ impl ConformationStage {
         sums.divergence_tensor(list, &self.tensor_ext, self.form, &mut self.div_phi);
     }
 
+    /// ∇·Φ of the last update, for terms that add to it (the hourglass control).
+    pub fn stress_divergence_mut(&mut self) -> &mut [Vec2] {
+        &mut self.div_phi
+    }
+
     /// ∇·Φ of the last update, for the predictor.
     pub fn stress_divergence(&self) -> &[Vec2] {
         &self.div_phi

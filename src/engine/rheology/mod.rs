@@ -6,6 +6,7 @@
 pub mod conformation;
 pub mod direct;
 pub mod generalised_newtonian;
+pub mod hourglass;
 pub mod log_conformation;
 pub mod models;
 pub mod remap;

@@ -41,6 +41,7 @@ use crate::engine::ordering::Reordering;
 use crate::engine::predictor::{predict, PredictorTerms};
 use crate::engine::pressure::PressureStage;
 use crate::engine::projection::{Projection, ProjectionStage};
+use crate::engine::rheology::hourglass::HourglassControl;
 use crate::engine::rheology::{ConformationStage, Fluid};
 use crate::engine::scheme::{Method, Scheme};
 use crate::engine::shifting::{ShiftInputs, ShiftRule, Shifting};
@@ -95,6 +96,8 @@ struct Stages {
     shifting: Shifting,
     free_surface: Option<FreeSurfaceStage>,
     conformation: Option<ConformationStage>,
+    /// The polymer stress's hourglass control (None: off, or no polymer).
+    hourglass: Option<HourglassControl>,
     viscous: ViscousStage,
     /// φ = η(γ̇)/η0 of a generalised Newtonian fluid (None: uniform viscosity).
     shear_viscosity: Option<ShearDependentViscosity>,
@@ -202,6 +205,7 @@ impl Simulation {
                     form,
                 )
             }),
+            hourglass: HourglassControl::chosen(scheme.hourglass_control, viscoelastic, kernel.h()),
             viscous: scheme.viscosity.stage(scheme.viscous_tolerance),
             shear_viscosity: (!fluid.law.is_constant())
                 .then(|| ShearDependentViscosity::new(fluid.law, fluid.viscosity)),
@@ -541,6 +545,15 @@ impl Simulation {
                 } else {
                     stage.update(fluid, dt, st.hood.parts(), inputs, &mut s.conformation)
                 }
+                if let Some(control) = st.hourglass.as_mut() {
+                    let (list, sums, _) = st.hood.parts();
+                    let fields = (
+                        &s.velocity[..],
+                        &st.kinematics.grad_u[..],
+                        &s.conformation[..],
+                    );
+                    control.add((list, sums), fluid, fields, stage.stress_divergence_mut());
+                }
             });
         }
     }
@@ -816,6 +829,9 @@ impl Simulation {
             + st.shifting.heap_bytes()
             + st.free_surface.as_ref().map_or(0, |f| f.heap_bytes())
             + st.conformation.as_ref().map_or(0, |c| c.heap_bytes())
+            + st.hourglass
+                .as_ref()
+                .map_or(0, HourglassControl::heap_bytes)
             + st.viscous.heap_bytes()
             + st.shear_viscosity.as_ref().map_or(0, |v| v.heap_bytes())
             + st.cohesion.as_ref().map_or(0, Cohesion::heap_bytes)
