@@ -339,7 +339,7 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
         .transpose()?;
     frame_fits(s, scene)?;
     let evss_alpha = in_range("scheme.evss_alpha", s.evss_alpha, 0.0, 1.0)?;
-    // Explicit: ν δt/h² = ξ × the elastic Courant number (≤ 2), so ξ ≤ 1 keeps it stable.
+    // Explicit: ν δt/h² = ξ × the elastic Courant number (engine::rheology::hourglass).
     let hourglass_control = in_range("scheme.hourglass_control", s.hourglass_control, 0.0, 1.0)?;
     let viscous_tolerance = s.viscous_tolerance;
     if !(viscous_tolerance > 0.0 && viscous_tolerance <= 1e-2) {
