@@ -42,6 +42,9 @@ $R study stability $C --wi 8,16,32,64,85,128 --vary scheme.conformation=log,dire
 # Re = 0.01 (rho = 0.01, g = 800 keeps U = 1).
 $R study stability $C --wi 1,4,16,32,40,64 --vary scheme.conformation=log,direct $I \
   --set fluid.density=0.01 --set 'scene.body_force=[800.0,0.0]' --set run.end_time=20 --out plots/stability-re0.01
+# UCM (beta = 0, alpha_V = 0.01): the shipped case with and without its hourglass control.
+RAYON_NUM_THREADS=1 $R study stability cases/poiseuille-ucm.toml --wi 1,2,4,8,16,32 \
+  --vary scheme.hourglass_control=0,0.2 --out plots/stability-elastic-rule/ucm-hourglass
 # What accuracy each second buys: resolutions x viscosity treatment x frame.
 $R study speed-accuracy $C --resolutions 15,30,60 --vary scheme.viscosity=explicit,implicit \
   --vary scheme.frame=lagrangian,eulerian --set run.end_time=5 --out plots/speed-accuracy
