@@ -180,3 +180,77 @@ pub fn compare_drops(runs: &[PathBuf], labels: &[String], title: &str, out: &Pat
         &curves,
     )
 }
+
+/// The centre-line charts of several cylinder runs overlaid (their `centreline.csv`; the
+/// paper's Fig. 11 from runs of any length, e.g. long runs resumed outside a study), into
+/// `out` (a directory). Labels default to "Wi = λU/R" from each run's `summary.json`.
+pub fn compare_centrelines(runs: &[PathBuf], labels: &[String], out: &Path) -> Result<()> {
+    anyhow::ensure!(
+        labels.is_empty() || labels.len() == runs.len(),
+        "--labels: {} labels for {} runs",
+        labels.len(),
+        runs.len()
+    );
+    let mut profiles = Vec::new();
+    for (k, dir) in runs.iter().enumerate() {
+        let path = dir.join("centreline.csv");
+        let text = std::fs::read_to_string(&path)
+            .with_context(|| format!("reading {} (a cylinder run's)", path.display()))?;
+        let rows = crate::analysis::centreline::parse_csv(&text);
+        anyhow::ensure!(!rows.is_empty(), "{}: no centre-line rows", path.display());
+        let label = match labels.get(k) {
+            Some(l) => l.clone(),
+            None => {
+                let summary: serde_json::Value = std::fs::read_to_string(dir.join("summary.json"))
+                    .ok()
+                    .and_then(|t| serde_json::from_str(&t).ok())
+                    .unwrap_or_default();
+                summary["derived"]["weissenberg"]
+                    .as_f64()
+                    .map_or_else(|| dir.display().to_string(), |wi| format!("Wi = {wi}"))
+            }
+        };
+        profiles.push((label, rows));
+    }
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    crate::app::study::cylinder::centreline_charts(out, FigureFormat::Png, &profiles)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Two fake cylinder runs overlaid: the three charts are written; a directory without
+    /// `centreline.csv` is refused with the file named, and so are mismatched labels.
+    #[test]
+    fn centrelines_of_several_runs_are_overlaid() {
+        let root = std::env::temp_dir().join(format!("rheosph-cc-{}", std::process::id()));
+        let run = |name: &str, wi: f64| {
+            let dir = root.join(name);
+            std::fs::create_dir_all(&dir).unwrap();
+            let mut csv = String::from("s,u_over_umean,tau_xx_scaled,det_a\n");
+            for k in 0..=16 {
+                let s = 0.25 * k as f64;
+                csv.push_str(&format!("{s},{},{},{}\n", 0.1 * s, wi * s, 1.0 + wi * s));
+            }
+            std::fs::write(dir.join("centreline.csv"), csv).unwrap();
+            let summary = format!("{{\"derived\": {{\"weissenberg\": {wi}}}}}");
+            std::fs::write(dir.join("summary.json"), summary).unwrap();
+            dir
+        };
+        let runs = [run("a", 2.0), run("b", 8.0)];
+        let out = root.join("charts");
+        compare_centrelines(&runs, &[], &out).unwrap();
+        for name in ["centreline_u", "centreline_tau_xx", "centreline_det_a"] {
+            assert!(out.join(format!("{name}.png")).is_file(), "{name}");
+        }
+        let missing = compare_centrelines(&[root.join("none")], &[], &out).unwrap_err();
+        assert!(
+            format!("{missing:#}").contains("centreline.csv"),
+            "{missing:#}"
+        );
+        let labels = ["one".to_string()];
+        assert!(compare_centrelines(&runs, &labels, &out).is_err());
+        std::fs::remove_dir_all(&root).unwrap();
+    }
+}

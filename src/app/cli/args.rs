@@ -57,6 +57,19 @@ pub struct CompareDropsArgs {
 }
 
 #[derive(Args, Debug)]
+pub struct CompareCentrelinesArgs {
+    /// Run directories of cylinder cases (each with centreline.csv).
+    #[arg(required = true)]
+    pub runs: Vec<PathBuf>,
+    /// Curve labels, one per run (default: "Wi = λU/R" of each run).
+    #[arg(long, value_delimiter = ',')]
+    pub labels: Vec<String>,
+    /// The output directory (centreline_u.png, centreline_tau_xx.png, centreline_det_a.png).
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+}
+
+#[derive(Args, Debug)]
 pub struct CaseArgs {
     /// The case file (TOML).
     pub case: PathBuf,

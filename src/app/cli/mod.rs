@@ -6,7 +6,10 @@ pub mod args;
 use crate::app::run::{self, Outcome, RunOptions};
 use crate::app::study::cli::StudyCommand;
 use crate::setup::case::{self, CaseError};
-use args::{BenchArgs, CaseArgs, CompareArgs, CompareDropsArgs, RheometryArgs, RunArgs};
+use args::{
+    BenchArgs, CaseArgs, CompareArgs, CompareCentrelinesArgs, CompareDropsArgs, RheometryArgs,
+    RunArgs,
+};
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 
@@ -34,6 +37,9 @@ pub enum Command {
     CompareProfiles(CompareArgs),
     /// Overlay drop width W* and height H* against t* of several drop runs (their drop.csv).
     CompareDrops(CompareDropsArgs),
+    /// Overlay the centre-line profiles (u, tau_xx, det A) of several cylinder runs (their
+    /// centreline.csv), e.g. long runs at several Wi: the paper's Fig. 11.
+    CompareCentrelines(CompareCentrelinesArgs),
     /// Time each stage of the step side by side for several sizes of the Poiseuille scene.
     Bench(BenchArgs),
     /// The case's fluid in homogeneous flows: steady shear, start-up of shear and planar
@@ -137,6 +143,10 @@ fn dispatch(cli: Cli) -> anyhow::Result<u8> {
         }
         Command::CompareDrops(args) => {
             crate::app::compare::compare_drops(&args.runs, &args.labels, &args.title, &args.out)?;
+            Ok(EXIT_FINISHED)
+        }
+        Command::CompareCentrelines(args) => {
+            crate::app::compare::compare_centrelines(&args.runs, &args.labels, &args.out)?;
             Ok(EXIT_FINISHED)
         }
         Command::Check(args) => {

@@ -217,35 +217,11 @@ fn charts(
     profiles: &[(f64, Vec<[f64; 4]>)],
     reference: Option<&[(f64, f64)]>,
 ) -> Result<()> {
-    // det A spans orders of magnitude over Wi (≥ 1 for Oldroyd-B): a log axis.
-    for (k, name, y, log_y) in [
-        (1, "centreline_u.png", "u/<u>", false),
-        (2, "centreline_tau_xx.png", "tau_xx/(eta_s <u>/R)", false),
-        (3, "centreline_det_a.png", "det A", true),
-    ] {
-        let curves: Vec<Curve> = profiles
-            .iter()
-            .enumerate()
-            .map(|(c, (wi, p))| Curve {
-                label: format!("Wi = {wi}"),
-                points: p.iter().map(|q| (q[0], q[k])).collect(),
-                style: CurveStyle::Line,
-                color: colour(c),
-            })
-            .collect();
-        plot::draw(
-            &out.join(name),
-            format,
-            &Chart {
-                title: format!("Centre-line between cylinders: {y}"),
-                x_label: "s (0: downstream edge of a cylinder)".into(),
-                y_label: y.into(),
-                log_y,
-                ..Default::default()
-            },
-            &curves,
-        )?;
-    }
+    let labelled: Vec<(String, Vec<[f64; 4]>)> = profiles
+        .iter()
+        .map(|(wi, p)| (format!("Wi = {wi}"), p.clone()))
+        .collect();
+    centreline_charts(out, format, &labelled)?;
     let mut curves = vec![Curve {
         label: "rheosph".into(),
         points: rows
@@ -275,6 +251,46 @@ fn charts(
         },
         &curves,
     )?;
+    Ok(())
+}
+
+/// The three centre-line charts (`centreline_u`, `centreline_tau_xx`, `centreline_det_a`)
+/// of labelled profiles (rows s, u/⟨u⟩, τ_xx/(η_s⟨u⟩/R), det A of `centreline.csv`), one
+/// curve each: the study's charts, and `compare-centrelines` for any set of runs.
+pub fn centreline_charts(
+    out: &Path,
+    format: FigureFormat,
+    profiles: &[(String, Vec<[f64; 4]>)],
+) -> Result<()> {
+    // det A spans orders of magnitude over Wi (≥ 1 for Oldroyd-B): a log axis.
+    for (k, name, y, log_y) in [
+        (1, "centreline_u", "u/<u>", false),
+        (2, "centreline_tau_xx", "tau_xx/(eta_s <u>/R)", false),
+        (3, "centreline_det_a", "det A", true),
+    ] {
+        let curves: Vec<Curve> = profiles
+            .iter()
+            .enumerate()
+            .map(|(c, (label, p))| Curve {
+                label: label.clone(),
+                points: p.iter().map(|q| (q[0], q[k])).collect(),
+                style: CurveStyle::Line,
+                color: colour(c),
+            })
+            .collect();
+        plot::draw(
+            &out.join(format!("{name}.png")),
+            format,
+            &Chart {
+                title: format!("Centre-line between cylinders: {y}"),
+                x_label: "s (0: downstream edge of a cylinder)".into(),
+                y_label: y.into(),
+                log_y,
+                ..Default::default()
+            },
+            &curves,
+        )?;
+    }
     Ok(())
 }
 
