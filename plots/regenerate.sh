@@ -79,6 +79,25 @@ $R study cylinder cases/cylinder-array.toml --set scene.resolution=36 --set sche
 $R study cylinder cases/cylinder-array.toml --wi 1,2,4,8,16 --sequence 36:40,72:15 \
   --set scene.mean_flow=1.0 --set run.end_time=8 --jobs 2 --reuse \
   --out plots/cylinder-array/p2-high-wi
+# Fig. 11 from developed runs: Wi = 1, 2, 4 to steady state and averaged at P2 (the same
+# sequence, P2 up to t = 30; about an hour), then Wi = 16 run long, to t = 64 = 4 lambda, by
+# hand (about 3 h at P2 on 2 threads; checkpointed, `run --resume DIR` continues it; the
+# tolerance of 1e-12 keeps it from stopping at a quiet stretch), and the centre-lines overlaid.
+$R study cylinder cases/cylinder-array.toml --wi 1,2,4 --sequence 36:40,72:15 \
+  --set scene.mean_flow=1.0 --set run.end_time=30 --jobs 2 --reuse \
+  --out plots/cylinder-array/p2-steady
+W="--no-snapshots --set fluid.relaxation_time=16 --set scene.mean_flow=1.0 --set run.steady.tolerance=1e-12"
+$R run cases/cylinder-array.toml $W --set scene.resolution=36 --set run.end_time=40 \
+  --out runs/p2-wi16/s36
+$R run cases/cylinder-array.toml $W --from runs/p2-wi16/s36 --set scene.resolution=72 \
+  --set run.end_time=15 --out runs/p2-wi16/s72
+$R run cases/cylinder-array.toml $W --from runs/p2-wi16/s72 --set run.end_time=64 \
+  --set run.checkpoint_interval=0.5 --out runs/p2-wi16/s144
+cp runs/p2-wi16/s144/{drag.png,centreline.csv,centreline_u.png,centreline_tau_xx.png,centreline_det_a.png} \
+  plots/cylinder-array/p2-wi16/
+S=plots/cylinder-array/p2-steady/runs
+$R compare-centrelines $S/Wi_1 $S/Wi_2 $S/Wi_4 runs/p2-wi16/s144 \
+  --out plots/cylinder-array/p2-fig11
 # The confined cylinder (30R x 4R periodic, R/dr = 10) against the published drag.
 $R study cylinder cases/confined-cylinder.toml --wi 0,0.1,0.3,0.5,0.7 \
   --reference cases/confined-cylinder-drag.csv --out plots/confined-cylinder
