@@ -96,8 +96,10 @@ $R run cases/cylinder-array.toml $W --from runs/p2-wi16/s72 --set run.end_time=6
 cp runs/p2-wi16/s144/{drag.png,centreline.csv,centreline_u.png,centreline_tau_xx.png,centreline_det_a.png} \
   plots/cylinder-array/p2-wi16/
 S=plots/cylinder-array/p2-steady/runs
-$R compare-centrelines $S/Wi_1 $S/Wi_2 $S/Wi_4 runs/p2-wi16/s144 \
-  --out plots/cylinder-array/p2-fig11
+$R run $S/Wi_4/case.toml --from $S/Wi_4 --set run.end_time=10 --set run.steady.tolerance=1e-12 \
+  --no-snapshots --out runs/p2-wi4-continued
+$R compare-centrelines $S/Wi_1 $S/Wi_2 runs/p2-wi4-continued runs/p2-wi16/s144 \
+  --labels "Wi = 1","Wi = 2","Wi = 4","Wi = 16" --out plots/cylinder-array/p2-fig11
 # The confined cylinder (30R x 4R periodic, R/dr = 10) against the published drag.
 $R study cylinder cases/confined-cylinder.toml --wi 0,0.1,0.3,0.5,0.7 \
   --reference cases/confined-cylinder-drag.csv --out plots/confined-cylinder
