@@ -30,6 +30,24 @@ impl Field {
 /// (y, numeric value, analytic value) of one particle.
 type ProfileRow = (f64, f64, Option<f64>);
 
+/// A run's `summary.json`, or JSON null if it has none (labels then fall back).
+fn read_summary(dir: &Path) -> serde_json::Value {
+    std::fs::read_to_string(dir.join("summary.json"))
+        .ok()
+        .and_then(|t| serde_json::from_str(&t).ok())
+        .unwrap_or_default()
+}
+
+/// `--labels` is empty (defaults) or one per run.
+fn check_labels(labels: &[String], runs: usize) -> Result<()> {
+    anyhow::ensure!(
+        labels.is_empty() || labels.len() == runs,
+        "--labels: {} labels for {runs} runs",
+        labels.len()
+    );
+    Ok(())
+}
+
 /// One run's label and rows.
 fn read_run(dir: &Path, field: Field) -> Result<(String, Vec<ProfileRow>)> {
     let text = std::fs::read_to_string(dir.join("profile.csv"))
@@ -54,10 +72,7 @@ fn read_run(dir: &Path, field: Field) -> Result<(String, Vec<ProfileRow>)> {
         let exact = f[iex].parse::<f64>().ok();
         rows.push((f[iy].parse::<f64>()?, f[inum].parse::<f64>()?, exact));
     }
-    let summary: serde_json::Value = std::fs::read_to_string(dir.join("summary.json"))
-        .ok()
-        .and_then(|t| serde_json::from_str(&t).ok())
-        .unwrap_or_default();
+    let summary = read_summary(dir);
     let fluid = &summary["case"]["fluid"];
     let mut label = fluid["model"].as_str().unwrap_or("run").to_string();
     for key in ["alpha", "l2", "epsilon"] {
@@ -141,12 +156,7 @@ fn read_drop(dir: &Path) -> Result<Vec<(f64, f64, f64)>> {
 
 /// W* (solid) and H* (dashed) against t* for each run, one colour per run.
 pub fn compare_drops(runs: &[PathBuf], labels: &[String], title: &str, out: &Path) -> Result<()> {
-    anyhow::ensure!(
-        labels.is_empty() || labels.len() == runs.len(),
-        "--labels: {} labels for {} runs",
-        labels.len(),
-        runs.len()
-    );
+    check_labels(labels, runs.len())?;
     let mut curves = Vec::new();
     for (k, dir) in runs.iter().enumerate() {
         let rows = read_drop(dir)?;
@@ -185,12 +195,7 @@ pub fn compare_drops(runs: &[PathBuf], labels: &[String], title: &str, out: &Pat
 /// paper's Fig. 11 from runs of any length, e.g. long runs resumed outside a study), into
 /// `out` (a directory). Labels default to "Wi = λU/R" from each run's `summary.json`.
 pub fn compare_centrelines(runs: &[PathBuf], labels: &[String], out: &Path) -> Result<()> {
-    anyhow::ensure!(
-        labels.is_empty() || labels.len() == runs.len(),
-        "--labels: {} labels for {} runs",
-        labels.len(),
-        runs.len()
-    );
+    check_labels(labels, runs.len())?;
     let mut profiles = Vec::new();
     for (k, dir) in runs.iter().enumerate() {
         let path = dir.join("centreline.csv");
@@ -200,15 +205,9 @@ pub fn compare_centrelines(runs: &[PathBuf], labels: &[String], out: &Path) -> R
         anyhow::ensure!(!rows.is_empty(), "{}: no centre-line rows", path.display());
         let label = match labels.get(k) {
             Some(l) => l.clone(),
-            None => {
-                let summary: serde_json::Value = std::fs::read_to_string(dir.join("summary.json"))
-                    .ok()
-                    .and_then(|t| serde_json::from_str(&t).ok())
-                    .unwrap_or_default();
-                summary["derived"]["weissenberg"]
-                    .as_f64()
-                    .map_or_else(|| dir.display().to_string(), |wi| format!("Wi = {wi}"))
-            }
+            None => read_summary(dir)["derived"]["weissenberg"]
+                .as_f64()
+                .map_or_else(|| dir.display().to_string(), |wi| format!("Wi = {wi}")),
         };
         profiles.push((label, rows));
     }
