@@ -1,5 +1,6 @@
 //! The cylinder array: Stokes-limit drag against a finer resolution, and a run continued from
-//! a checkpoint against the same run uninterrupted.
+//! a checkpoint against the same run uninterrupted. The confined cylinder: the Newtonian drag
+//! against the finite-volume value and its independence of the time step.
 
 use std::path::Path;
 use std::process::Command;
@@ -9,14 +10,12 @@ fn rheosph() -> Command {
 }
 
 fn run(dir: &Path, sets: &[&str]) {
+    run_case("cases/cylinder-array.toml", dir, sets);
+}
+
+fn run_case(case: &str, dir: &Path, sets: &[&str]) {
     let mut c = rheosph();
-    c.args([
-        "-q",
-        "run",
-        "cases/cylinder-array.toml",
-        "--no-snapshots",
-        "--no-charts",
-    ]);
+    c.args(["-q", "run", case, "--no-snapshots", "--no-charts"]);
     c.arg("--out").arg(dir);
     for s in sets {
         c.args(["--set", s]);
@@ -93,14 +92,16 @@ fn resumed_run_matches_uninterrupted() {
 }
 
 /// Stokes-limit drag (Newtonian fluid of the array, Re = 0.024) on a coarse array,
-/// R/δr = 9, against our resolved runs: K = 116.31, 114.20, 112.63 and ⟨u⟩ = 0.8788, 0.8801,
-/// 0.8830 at R/δr = 9, 13.5, 18 (`plots/cylinder-array/stokes`). The sequence is not yet in
-/// its asymptotic range (the increments per unit δr grow), so no extrapolation is claimed; the
-/// coarse K must be within 4.5 % of the R/δr = 18 value (measured +3.3 %) and ⟨u⟩ within 1 %
-/// (measured −0.5 %). A broken force integral, mirror or projection misses by far more: the
-/// standard projection with implicit viscosity gave ⟨u⟩ = 1.69 and a force above the
-/// total body force. The force on the cylinder must also be below the total body force on
-/// the fluid (the walls take the rest).
+/// R/δr = 9, against our finer runs: K = 121.06, 117.32, 114.67 and ⟨u⟩ = 0.8781, 0.8756,
+/// 0.8792 at R/δr = 9, 13.5, 18 with the incremental projection's pressure stabilisation
+/// (without it K crept up with the steps taken, and the runs stopped at 116.31, 114.20,
+/// 112.63 when ⟨u⟩ met the 2 % criterion). The sequence falls by 3.1 % and 2.3 % per
+/// refinement, no asymptotic order yet, so no extrapolation is claimed; the coarse K must be
+/// within 7 % of the R/δr = 18 value (measured +5.6 %) and ⟨u⟩ within 1 % (measured −0.1 %).
+/// A broken force integral, mirror or projection misses by far more: the standard
+/// projection with implicit viscosity gave ⟨u⟩ = 1.69 and a force above the total body
+/// force. The force on the cylinder must also be below the total body force on the fluid (the
+/// walls take the rest).
 #[test]
 fn stokes_drag_on_a_coarse_array_is_near_the_resolved_value() {
     let tmp = tempfile::tempdir().unwrap();
@@ -122,8 +123,8 @@ fn stokes_drag_on_a_coarse_array_is_near_the_resolved_value() {
         st["drag_k"].as_f64().unwrap(),
         st["u_mean"].as_f64().unwrap(),
     );
-    assert!((k / 112.63 - 1.0).abs() < 0.045, "K = {k}");
-    assert!((u / 0.8830 - 1.0).abs() < 0.01, "<u> = {u}");
+    assert!((k / 114.67 - 1.0).abs() < 0.07, "K = {k}");
+    assert!((u / 0.8792 - 1.0).abs() < 0.01, "<u> = {u}");
     let particles = s["particles"].as_f64().unwrap();
     let body = 300.0 * particles * (4.0f64 / 36.0).powi(2);
     let drag = k * 41.66 * u;
@@ -158,4 +159,41 @@ fn an_unsteady_run_averages_its_last_time_units() {
     assert_eq!(st["samples"].as_u64(), Some(5), "{st}");
     let from = st["averaged_from"].as_f64().unwrap();
     assert!((from - 0.3).abs() < 0.01, "{st}");
+}
+
+/// The Newtonian confined cylinder (blockage 0.5, R/δr = 10, ⟨u⟩ held at 1) on fixed
+/// particles, run to its steady state at two time steps a factor 2 apart. A steady state of a
+/// consistent scheme does not depend on δt: the incremental projection with its pressure
+/// stabilisation gives K = 133.398 and 133.396 (Δ 0.001 %); without the stabilisation the
+/// drag crept up with the number of steps taken (132.98, 135.07, 140.81 at δt factors 0.2, 0.1,
+/// 0.05), so a bound of 0.05 % fails by far. Against the finite-volume K = 132.36 (Alves,
+/// Pinho & Oliveira 2001; `cases/confined-cylinder-drag.csv`) the measured +0.8 % is this
+/// resolution's error (the first wall layers of a lattice cut by the cylinder); 1.5 % bounds
+/// it with margin and fails the unstabilised drag at δt factor 0.1.
+#[test]
+fn newtonian_confined_cylinder_drag_is_steady_and_independent_of_the_step() {
+    let tmp = tempfile::tempdir().unwrap();
+    let k = |factor: &str| {
+        let dir = tmp.path().join(factor);
+        let dt = format!("scheme.dt_factor={factor}");
+        run_case(
+            "cases/confined-cylinder.toml",
+            &dir,
+            &[
+                "fluid.model=newtonian",
+                "fluid.relaxation_time=0",
+                "fluid.beta=1",
+                "scheme.frame=eulerian",
+                "scene.mean_flow=1.0",
+                "run.end_time=4.5",
+                "run.steady.tolerance=1e-12",
+                "run.steady.average=0.5",
+                &dt,
+            ],
+        );
+        summary(&dir)["steady"]["drag_k"].as_f64().unwrap()
+    };
+    let (coarse, fine) = (k("0.2"), k("0.1"));
+    assert!((fine / coarse - 1.0).abs() < 5e-4, "K = {coarse}, {fine}");
+    assert!((coarse / 132.36 - 1.0).abs() < 0.015, "K = {coarse}");
 }

@@ -26,6 +26,7 @@ pub mod reduce;
 pub mod rheology;
 pub mod scheme;
 pub mod shifting;
+pub mod stabilisation;
 pub mod state;
 pub mod step;
 pub mod timing;

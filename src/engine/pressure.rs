@@ -244,6 +244,12 @@ impl PressureStage {
         }
     }
 
+    /// The PPE's divergence of the last [`Self::divergence`], for terms that add to it (the
+    /// incremental projection's stabilisation).
+    pub fn divergence_mut(&mut self) -> &mut [f64] {
+        &mut self.divergence
+    }
+
     /// u* followed by the ghosts' values, after [`Self::divergence`].
     pub fn velocity_star_ext(&self) -> &[Vec2] {
         &self.velocity_ext

@@ -7,12 +7,14 @@
 //!   viscosity in creeping flow.
 //! * [`Projection::Incremental`] (pressure correction): the predictor carries −∇p^n/ρ and the
 //!   PPE gives the increment p^{n+1} − p^n, started from zero (it vanishes as the flow
-//!   settles); the steady state is exact for any δt.
+//!   settles). Its PPE carries the [`PressureStabilisation`] of p^n, without which its steady
+//!   state has no stable pressure; with it the steady state does not depend on δt.
 
 use crate::engine::boundary::Ghosts;
 use crate::engine::math::Vec2;
 use crate::engine::neighbours::NeighbourList;
 use crate::engine::operators::KernelSums;
+use crate::engine::stabilisation::PressureStabilisation;
 use rayon::prelude::*;
 
 /// The pressure projection in use.
@@ -30,22 +32,47 @@ pub struct ProjectionStage {
     increment: Vec<f64>,
     pressure_ext: Vec<f64>,
     old_gradient: Vec<Vec2>,
+    /// The incremental projection's stabilisation (None for the standard one).
+    stabilisation: Option<PressureStabilisation>,
 }
 
 impl ProjectionStage {
-    pub fn new(kind: Projection) -> Self {
+    /// The projection `kind`; `stabilisation` is the incremental one's
+    /// ([`PressureStabilisation::new`]), dropped by the standard one.
+    pub fn new(kind: Projection, stabilisation: PressureStabilisation) -> Self {
         Self {
             kind,
             increment: Vec::new(),
             pressure_ext: Vec::new(),
             old_gradient: Vec::new(),
+            stabilisation: (kind == Projection::Incremental).then_some(stabilisation),
         }
     }
 
     /// Heap bytes held.
     pub fn heap_bytes(&self) -> usize {
         use crate::engine::vec_bytes as b;
-        b(&self.increment) + b(&self.pressure_ext) + b(&self.old_gradient)
+        b(&self.increment)
+            + b(&self.pressure_ext)
+            + b(&self.old_gradient)
+            + self
+                .stabilisation
+                .as_ref()
+                .map_or(0, PressureStabilisation::heap_bytes)
+    }
+
+    /// Step 5, incremental projection: the stabilisation of p^n added to the PPE's
+    /// divergence ∇·u* (nothing for the standard projection).
+    pub fn stabilise(
+        &mut self,
+        (list, sums): (&NeighbourList, &KernelSums),
+        pressure: &[f64],
+        (density, dt): (f64, f64),
+        divergence: &mut [f64],
+    ) {
+        if let Some(stabilisation) = self.stabilisation.as_mut() {
+            stabilisation.add((list, sums), pressure, (density, dt), divergence);
+        }
     }
 
     /// Step 4: ∇p^n for the predictor's −∇p^n/ρ (incremental), or None.

@@ -45,6 +45,7 @@ use crate::engine::rheology::hourglass::HourglassControl;
 use crate::engine::rheology::{ConformationStage, Fluid};
 use crate::engine::scheme::{Method, Scheme};
 use crate::engine::shifting::{ShiftInputs, ShiftRule, Shifting};
+use crate::engine::stabilisation::PressureStabilisation;
 use crate::engine::timing::{Stage, StageSeconds};
 use crate::engine::viscosity::{
     elastic_wave_speed, DtInputs, ShearDependentViscosity, ViscousStage,
@@ -212,7 +213,10 @@ impl Simulation {
             nu: scheme.viscosity_nu(&fluid),
             velocity_star: Vec::new(),
             bodies,
-            projection: ProjectionStage::new(scheme.projection),
+            projection: ProjectionStage::new(
+                scheme.projection,
+                PressureStabilisation::new(fluid.density, fluid.viscosity, kernel.h()),
+            ),
             pressure: PressureStage::new(
                 scheme.ppe,
                 scheme.frame,
@@ -647,6 +651,11 @@ impl Simulation {
             let wall_pressure = st.projection.kind == Projection::Standard;
             let continued = wall_pressure.then_some(dt / fluid.density);
             st.pressure.divergence(hood, &st.velocity_star, continued);
+            let stabilised = (hood.0, hood.1);
+            let scales = (fluid.density, dt);
+            let divergence = st.pressure.divergence_mut();
+            st.projection
+                .stabilise(stabilised, &s.pressure, scales, divergence);
             let dirichlet = st.free_surface.as_mut().map(|fs| {
                 let factor = st.shear_viscosity.as_ref().map_or(&[][..], |v| v.factor());
                 fs.dirichlet_pressure(
