@@ -193,7 +193,7 @@ pub fn bench_size(target_particles: usize, steps: usize, lu_max: usize) -> Resul
     ghosts.extend_velocity(&sim.state.velocity, &mut u_ext);
     let tau: Vec<Sym2> = sim.polymer_stress();
     let mut t_ext = Vec::new();
-    ghosts.extend_tensor(&tau, &mut t_ext);
+    ghosts.continue_tensor(&tau, &mut t_ext);
     let (mut grad, mut lap, mut div_t, mut div) = (
         vec![Mat2::zeros(); n],
         vec![Vec2::zeros(); n],

@@ -73,7 +73,7 @@ impl Kinematics {
         velocity: &[Vec2],
     ) {
         let n = velocity.len();
-        ghosts.extend_velocity(velocity, &mut self.velocity_ext);
+        ghosts.continue_velocity(velocity, &mut self.velocity_ext);
         self.grad_u.resize(n, Mat2::zeros());
         sums.gradient_vector(list, &self.velocity_ext, &mut self.grad_u);
         if self.rule == ConstitutiveGradient::Raw {

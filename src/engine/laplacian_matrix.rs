@@ -33,6 +33,40 @@ pub struct LaplacianMatrix {
 }
 
 impl LaplacianMatrix {
+    /// The CSR slot of each row: the diagonal and one entry per neighbour, or for a
+    /// continued ghost's velocity ([`Ghosts::velocity_stencil`]) one per point of its stencil.
+    fn size_slots(&mut self, list: &NeighbourList, ghosts: &Ghosts, field: Field) {
+        let n = list.rows();
+        self.slot_offsets.clear();
+        let stencils = field == Field::Velocity
+            && (0..ghosts.len()).any(|g| ghosts.velocity_stencil(g).is_some());
+        if !stencils {
+            self.slot_offsets
+                .extend(list.offsets.iter().enumerate().map(|(i, o)| o + i));
+            return;
+        }
+        self.row_len.resize(n, 0);
+        self.row_len
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(i, len)| {
+                *len = 1 + list
+                    .range(i)
+                    .map(|k| {
+                        let j = list.index[k] as usize;
+                        let stencil = j.checked_sub(n).and_then(|g| ghosts.velocity_stencil(g));
+                        stencil.map_or(1, |(points, _)| points.len())
+                    })
+                    .sum::<usize>();
+            });
+        self.slot_offsets.push(0);
+        let mut total = 0;
+        for len in &self.row_len {
+            total += len;
+            self.slot_offsets.push(total);
+        }
+    }
+
     /// Assembles `d I + c L` with mirrors of `field` folded into their parents' columns; rows
     /// flagged in `identity_rows`
     /// (empty: none) are replaced by identity rows, the Dirichlet rows of free-surface
@@ -54,9 +88,7 @@ impl LaplacianMatrix {
         let n = list.rows();
         // Each row is written into a slot of the CSR arrays sized by its neighbour count plus
         // the diagonal, sorted and merged there, then the rows are shifted down in place.
-        self.slot_offsets.clear();
-        self.slot_offsets
-            .extend(list.offsets.iter().enumerate().map(|(i, o)| o + i));
+        self.size_slots(list, ghosts, field);
         let upper = self.slot_offsets[n];
         self.indices.resize(upper, 0);
         self.data.resize(upper, 0.0);
@@ -205,18 +237,31 @@ fn assemble_row(
             w *= pair_viscosity(factor[i], factor[j]);
         }
         diagonal += w;
-        let (col, coefficient) = if j < n_fluid {
-            (j, -w)
-        } else {
-            let g = j - n_fluid;
-            (ghosts.parent[g] as usize, -ghosts.sign(field, g) * w)
+        let mut push = |col: usize, coefficient: f64| {
+            if col == i {
+                diagonal += coefficient; // own ghost
+            } else {
+                cols[len] = col;
+                vals[len] = coefficient;
+                len += 1;
+            }
         };
-        if col == i {
-            diagonal += coefficient; // own mirror
-        } else {
-            cols[len] = col;
-            vals[len] = coefficient;
-            len += 1;
+        if j < n_fluid {
+            push(j, -w);
+            continue;
+        }
+        let g = j - n_fluid;
+        match ghosts
+            .velocity_stencil(g)
+            .filter(|_| field == Field::Velocity)
+        {
+            // u_g = Σ_m c_m u_m + (the offset's part, on the right-hand side).
+            Some((points, c)) => {
+                for (&m, &c) in points.iter().zip(c) {
+                    push(m as usize, -w * c);
+                }
+            }
+            None => push(ghosts.parent[g] as usize, -ghosts.sign(field, g) * w),
         }
     }
     // The row comes in ascending order up to `sorted` (neighbour rows are sorted by index,

@@ -150,6 +150,8 @@ impl Neighbourhood {
         }
         self.sums
             .update_with_volumes(&self.list, kernel, spacing * spacing, &self.volumes);
+        self.ghosts
+            .prepare_continuation((&self.list, &self.sums), n, support);
         self.valid = true;
         true
     }

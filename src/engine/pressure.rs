@@ -232,7 +232,7 @@ impl PressureStage {
         velocity_star: &[Vec2],
         wall_pressure: Option<f64>,
     ) {
-        ghosts.extend_velocity(velocity_star, &mut self.velocity_ext);
+        ghosts.continue_velocity(velocity_star, &mut self.velocity_ext);
         self.divergence.resize(velocity_star.len(), 0.0);
         match wall_pressure.filter(|_| !ghosts.pressure_offsets().is_empty()) {
             Some(dt_over_rho) => {

@@ -50,6 +50,8 @@ pub struct Scheme {
     pub wall_conformation: TensorMirror,
     /// Mirrors or a fixed ghost lattice behind plane walls.
     pub wall_model: WallModel,
+    /// How the explicit operators continue a no-slip wall's velocity to its ghosts.
+    pub wall_velocity: crate::engine::boundary::VelocityExtension,
     /// Where the body force enters: the predictor or a reduced pressure.
     pub gravity: crate::engine::gravity::Gravity,
     /// The Neumann condition of the wall pressure: ∂p/∂n = 0 or the normal momentum balance.

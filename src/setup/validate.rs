@@ -1,6 +1,7 @@
 //! A validated case, and the validation of the fluid, scheme and run tables into the
 //! engine's types (the scene validates itself, see [`crate::setup::scenes`]).
 
+use crate::engine::boundary::{TensorMirror, VelocityExtension};
 use crate::engine::frame::Frame;
 use crate::engine::free_surface::{ContactRows, SurfaceShear, SurfaceTensionForm};
 use crate::engine::projection::Projection;
@@ -76,7 +77,7 @@ use crate::engine::weakly_compressible::{
 };
 use crate::setup::schema::{
     CaseFile, FluidSpec, GradientChoice, GravityChoice, IntegratorChoice, MethodChoice,
-    PreconditionerChoice, ProjectionChoice, RunSpec, SchemeSpec,
+    PreconditionerChoice, ProjectionChoice, RunSpec, SchemeSpec, WallVelocityChoice,
 };
 use rheosph_solver::Preconditioner;
 
@@ -328,6 +329,25 @@ fn frame_fits(s: &SchemeSpec, scene: &dyn Scene) -> Result<(), FieldError> {
     Ok(())
 }
 
+/// `scheme.wall_velocity`'s `auto` ([`WallVelocityChoice::Auto`] says why); `open`: the
+/// scene has a free surface.
+fn wall_velocity(
+    choice: WallVelocityChoice,
+    scene: &dyn Scene,
+    fluid: &Fluid,
+    open: bool,
+) -> VelocityExtension {
+    match choice {
+        WallVelocityChoice::Auto
+            if open || scene.discs() > 0 || fluid.law != ViscosityLaw::Constant =>
+        {
+            VelocityExtension::Mirror
+        }
+        WallVelocityChoice::Auto | WallVelocityChoice::Quadratic => VelocityExtension::Quadratic,
+        WallVelocityChoice::Mirror => VelocityExtension::Mirror,
+    }
+}
+
 fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, FieldError> {
     let open = scene.has_free_surface();
     let method = method(s, scene, fluid)?;
@@ -420,8 +440,13 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
         reorder: s.reorder,
         neighbour_skin,
         viscous_tolerance,
-        wall_conformation: s.wall_conformation,
+        wall_conformation: s.wall_conformation.unwrap_or(if open {
+            TensorMirror::Even
+        } else {
+            TensorMirror::Linear
+        }),
         wall_model: s.wall_model,
+        wall_velocity: wall_velocity(s.wall_velocity, scene, fluid, open),
         wall_pressure: s.wall_pressure,
         gravity: gravity(s, scene)?,
         gradient_order: s.gradient_order,

@@ -137,6 +137,16 @@ pub struct Simulation {
     stages: Stages,
 }
 
+/// The neighbourhood of `walls` under `scheme`'s wall and operator settings.
+fn neighbourhood(walls: Vec<Wall>, scheme: &Scheme, spacing: f64) -> Neighbourhood {
+    let mut ghosts = Ghosts::new(walls);
+    ghosts.set_model(scheme.wall_model, spacing);
+    ghosts.set_velocity_extension(scheme.wall_velocity);
+    let mut hood = Neighbourhood::new(ghosts);
+    hood.sums.configure(scheme);
+    hood
+}
+
 impl Simulation {
     pub fn new(setup: Setup) -> Self {
         let n = setup.positions.len();
@@ -175,10 +185,7 @@ impl Simulation {
             scheme.wall_conformation,
             &mut walls,
         );
-        let mut ghosts = Ghosts::new(walls);
-        ghosts.set_model(scheme.wall_model, setup.spacing);
-        let mut hood = Neighbourhood::new(ghosts);
-        hood.sums.configure(&scheme);
+        let hood = neighbourhood(walls, &scheme, setup.spacing);
         // Free surfaces take the positive divergence form of (20) with L = I.
         let form = if setup.free_surface {
             DivergenceForm::Positive

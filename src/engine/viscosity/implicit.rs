@@ -45,7 +45,9 @@ impl ImplicitViscosity {
 
     /// Moving walls: the mirrors' u_j = −u_i + b_j leave δtν Σ_j L_ij b_j over, which joins
     /// the right-hand side (the Laplacian of the field that is b on the mirrors and 0 on the
-    /// fluid, with the explicit operator's weights, which the matrix shares).
+    /// fluid, with the explicit operator's weights, which the matrix shares). A continued
+    /// ghost's b is the wall velocity's part of its stencil ([`Ghosts::extend_offsets`]); the
+    /// matrix holds the rest, so the step is implicit in the continuation as in the mirror.
     fn add_wall_term(
         &mut self,
         (list, sums, ghosts): (&NeighbourList, &KernelSums, &Ghosts),

@@ -267,7 +267,7 @@ impl WeakStage {
             self.fluid_tensor.clear();
             self.fluid_tensor
                 .extend((0..n).map(|i| tau(i) * (1.0 / rho(i).powi(2))));
-            ghosts.extend_tensor(&self.fluid_tensor, &mut self.stress_ext);
+            ghosts.continue_tensor(&self.fluid_tensor, &mut self.stress_ext);
         }
         self.artificial_ext.clear();
         if self.settings.stress.is_off() {
@@ -280,7 +280,7 @@ impl WeakStage {
             let total = tau(i) + solvent - Sym2::IDENTITY * m.pressure[i];
             stress.tensor(&total, rho(i))
         }));
-        ghosts.extend_tensor(&self.fluid_tensor, &mut self.artificial_ext);
+        ghosts.continue_tensor(&self.fluid_tensor, &mut self.artificial_ext);
     }
 
     /// Continuity (module docs) with u^{n+1}: p^{n+1} = p^n + δt c² dρ/dt. With shifting
