@@ -120,14 +120,10 @@ impl Continuation {
                 stencil.points.extend(fluid.clone().map(|p| list.index[p]));
                 let arm = ghosts.arm[g];
                 if velocity {
-                    if let Some(c) = velocity_weights((list, sums), fluid.clone(), arm) {
-                        stencil.velocity = c;
-                    }
+                    velocity_weights((list, sums), fluid.clone(), arm, &mut stencil.velocity);
                 }
                 if tensor {
-                    if let Some(a) = tensor_weights((list, sums), fluid, arm) {
-                        stencil.tensor = a;
-                    }
+                    tensor_weights((list, sums), fluid, arm, &mut stencil.tensor);
                 }
             });
     }
@@ -176,13 +172,14 @@ impl Continuation {
     }
 }
 
-/// c_j of the velocity continuation at `arm` (module docs), over the parent and the `fluid`
-/// pair indices of its row; None where the fit is singular.
+/// c_j of the velocity continuation at `arm` (module docs) into `c` (empty on entry), over
+/// the parent and the `fluid` pair indices of its row; left empty where the fit is singular.
 fn velocity_weights(
     (list, sums): (&NeighbourList, &KernelSums),
     fluid: impl Iterator<Item = usize> + Clone,
     arm: Vec2,
-) -> Option<Vec<f64>> {
+    c: &mut Vec<f64>,
+) {
     // Positions about the wall point, scaled by the support's reach for conditioning.
     let scale = fluid
         .clone()
@@ -193,35 +190,44 @@ fn velocity_weights(
         SVector::<f64, 5>::from([r.x, r.y, r.x * r.x, r.x * r.y, r.y * r.y])
     };
     let nearest = fluid.clone().map(|p| sums.value[p]).fold(0.0, f64::max);
-    let rows: Vec<(Vec2, f64)> = std::iter::once((-0.5 * arm, nearest))
-        .chain(fluid.map(|p| (-list.rij[p] - 0.5 * arm, sums.value[p])))
-        .collect();
+    let rows = std::iter::once((-0.5 * arm, nearest))
+        .chain(fluid.map(|p| (-list.rij[p] - 0.5 * arm, sums.value[p])));
     let mut m = SMatrix::<f64, 5, 5>::zeros();
-    for &(at, w) in &rows {
+    for (at, w) in rows.clone() {
         let b = basis(at);
         m += w * b * b.transpose();
     }
-    let z = m.try_inverse()? * basis(0.5 * arm);
-    let c: Vec<f64> = rows.iter().map(|&(at, w)| w * z.dot(&basis(at))).collect();
-    c.iter().all(|v| v.is_finite()).then_some(c)
+    let Some(inverse) = m.try_inverse() else {
+        return;
+    };
+    let z = inverse * basis(0.5 * arm);
+    c.extend(rows.map(|(at, w)| w * z.dot(&basis(at))));
+    if !c.iter().all(|v| v.is_finite()) {
+        c.clear();
+    }
 }
 
-/// a_j of the tensor continuation at `arm` (module docs), over the parent (a_k = 0) and the
-/// `fluid` pair indices of its row; None where B is singular.
+/// a_j of the tensor continuation at `arm` (module docs) into `a` (empty on entry), over the
+/// parent (a_k = 0) and the `fluid` pair indices of its row; left empty where B is singular.
 fn tensor_weights(
     (list, sums): (&NeighbourList, &KernelSums),
     fluid: impl Iterator<Item = usize> + Clone,
     arm: Vec2,
-) -> Option<Vec<f64>> {
+    a: &mut Vec<f64>,
+) {
     let mut b = Mat2::zeros();
     for p in fluid.clone() {
         b -= sums.grad_w(list, p) * list.rij[p].transpose();
     }
-    let w = b.try_inverse()?.transpose() * arm;
-    let a: Vec<f64> = std::iter::once(0.0)
-        .chain(fluid.map(|p| w.dot(&sums.grad_w(list, p))))
-        .collect();
-    a.iter().all(|v| v.is_finite()).then_some(a)
+    let Some(inverse) = b.try_inverse() else {
+        return;
+    };
+    let w = inverse.transpose() * arm;
+    a.push(0.0);
+    a.extend(fluid.map(|p| w.dot(&sums.grad_w(list, p))));
+    if !a.iter().all(|v| v.is_finite()) {
+        a.clear();
+    }
 }
 
 #[cfg(test)]
