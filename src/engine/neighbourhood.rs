@@ -11,6 +11,7 @@
 //! Without a skin the search runs every step and its rows keep its cell order: the same
 //! pairs, summed in another order (results differ from a skinned run's in round-off).
 
+use crate::engine::boundary::continuation::PairKernel;
 use crate::engine::boundary::Ghosts;
 use crate::engine::kernel::QuinticSpline;
 use crate::engine::math::Vec2;
@@ -150,8 +151,12 @@ impl Neighbourhood {
         }
         self.sums
             .update_with_volumes(&self.list, kernel, spacing * spacing, &self.volumes);
+        let pairs = PairKernel {
+            value: &self.sums.value,
+            factor: &self.sums.factor,
+        };
         self.ghosts
-            .prepare_continuation((&self.list, &self.sums), n, support);
+            .prepare_continuation((&self.list, pairs), n, support);
         self.valid = true;
         true
     }

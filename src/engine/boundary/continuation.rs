@@ -34,7 +34,6 @@
 
 use crate::engine::math::{Mat2, Sym2, Vec2};
 use crate::engine::neighbours::NeighbourList;
-use crate::engine::operators::KernelSums;
 use nalgebra::{SMatrix, SVector};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -51,6 +50,14 @@ pub enum VelocityExtension {
     /// and, with the tensor's continuation, the channel's steady error.
     #[default]
     Quadratic,
+}
+
+/// The kernel of each listed pair k (the operators' kernel sums hold both): W(r_k) and
+/// F(r_k), ∇W_k = F(r_k) r_k.
+#[derive(Clone, Copy)]
+pub struct PairKernel<'a> {
+    pub value: &'a [f64],
+    pub factor: &'a [f64],
 }
 
 /// What the stencils need of each ghost g.
@@ -95,7 +102,7 @@ impl Continuation {
     /// points the fluid's).
     pub fn build(
         &mut self,
-        (list, sums): (&NeighbourList, &KernelSums),
+        (list, sums): (&NeighbourList, PairKernel),
         n_fluid: usize,
         ghosts: &GhostView,
     ) {
@@ -175,7 +182,7 @@ impl Continuation {
 /// c_j of the velocity continuation at `arm` (module docs) into `c` (empty on entry), over
 /// the parent and the `fluid` pair indices of its row; left empty where the fit is singular.
 fn velocity_weights(
-    (list, sums): (&NeighbourList, &KernelSums),
+    (list, sums): (&NeighbourList, PairKernel),
     fluid: impl Iterator<Item = usize> + Clone,
     arm: Vec2,
     c: &mut Vec<f64>,
@@ -210,21 +217,21 @@ fn velocity_weights(
 /// a_j of the tensor continuation at `arm` (module docs) into `a` (empty on entry), over the
 /// parent (a_k = 0) and the `fluid` pair indices of its row; left empty where B is singular.
 fn tensor_weights(
-    (list, sums): (&NeighbourList, &KernelSums),
+    (list, sums): (&NeighbourList, PairKernel),
     fluid: impl Iterator<Item = usize> + Clone,
     arm: Vec2,
     a: &mut Vec<f64>,
 ) {
     let mut b = Mat2::zeros();
     for p in fluid.clone() {
-        b -= sums.grad_w(list, p) * list.rij[p].transpose();
+        b -= sums.factor[p] * list.rij[p] * list.rij[p].transpose();
     }
     let Some(inverse) = b.try_inverse() else {
         return;
     };
     let w = inverse.transpose() * arm;
     a.push(0.0);
-    a.extend(fluid.map(|p| w.dot(&sums.grad_w(list, p))));
+    a.extend(fluid.map(|p| w.dot(&(sums.factor[p] * list.rij[p]))));
     if !a.iter().all(|v| v.is_finite()) {
         a.clear();
     }
@@ -237,8 +244,11 @@ mod tests {
     use crate::engine::kernel::QuinticSpline;
     use crate::engine::neighbours::{Domain, NeighbourSearch};
 
-    /// A lattice over the floor y = 0 (periodic in x), its mirrors, lists and kernel sums.
-    fn floor_lattice() -> (Ghosts, Vec<Vec2>, NeighbourList, KernelSums) {
+    /// W(r_k) and F(r_k) of each listed pair.
+    type Pairs = (Vec<f64>, Vec<f64>);
+
+    /// A lattice over the floor y = 0 (periodic in x), its mirrors, lists and pair kernels.
+    fn floor_lattice() -> (Ghosts, Vec<Vec2>, NeighbourList, Pairs) {
         let (dr, m) = (0.1, 12);
         let kernel = QuinticSpline::for_spacing(dr);
         let mut points: Vec<Vec2> = (0..m * m)
@@ -256,9 +266,15 @@ mod tests {
         ghosts.build(kernel.support(), &mut points);
         let mut list = NeighbourList::default();
         NeighbourSearch::default().build(&domain, &points, n, kernel.support(), &mut list);
-        let mut sums = KernelSums::default();
-        sums.update(&list, &kernel, dr * dr);
-        ghosts.prepare_continuation((&list, &sums), n, kernel.support());
+        let (value, factor): (Vec<f64>, Vec<f64>) = (0..list.pairs())
+            .map(|k| kernel.value_and_gradient_factor(list.rij[k].norm()))
+            .unzip();
+        let sums = (value, factor);
+        let pairs = PairKernel {
+            value: &sums.0,
+            factor: &sums.1,
+        };
+        ghosts.prepare_continuation((&list, pairs), n, kernel.support());
         (ghosts, points, list, sums)
     }
 
@@ -298,7 +314,12 @@ mod tests {
         let (mut ghosts, points, list, sums) = floor_lattice();
         let n = points.len() - ghosts.len();
         ghosts.set_velocity_extension(VelocityExtension::Mirror);
-        ghosts.prepare_continuation((&list, &sums), n, QuinticSpline::for_spacing(0.1).support());
+        let pairs = PairKernel {
+            value: &sums.0,
+            factor: &sums.1,
+        };
+        let support = QuinticSpline::for_spacing(0.1).support();
+        ghosts.prepare_continuation((&list, pairs), n, support);
         let fluid: Vec<Vec2> = points[..n]
             .iter()
             .map(|r| Vec2::new(r.y * r.y, 0.0))

@@ -24,7 +24,6 @@ pub use wall_pressure::WallPressure;
 
 use crate::engine::math::{Sym2, Vec2};
 use crate::engine::neighbours::{Domain, NeighbourList};
-use crate::engine::operators::KernelSums;
 use rayon::prelude::*;
 use std::sync::Arc;
 
@@ -436,7 +435,7 @@ impl Ghosts {
     /// continues a tensor and the velocity is mirrored, nothing.
     pub fn prepare_continuation(
         &mut self,
-        (list, sums): (&NeighbourList, &KernelSums),
+        (list, sums): (&NeighbourList, continuation::PairKernel),
         n_fluid: usize,
         support: f64,
     ) {
