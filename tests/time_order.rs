@@ -8,9 +8,16 @@ mod common;
 use common::{poiseuille, run_quiet};
 use rheosph::app::run::Outcome;
 
-/// u_c(t = 0.8) for a viscous integrator and a step factor.
+/// u_c(t = 0.8) for a viscous integrator (and the conformation update its `auto` pairs with
+/// it, or `euler` with backward Euler: the paper's) and a step factor.
 fn centre_velocity(viscosity: &str, dt_factor: f64) -> f64 {
+    let conformation = if viscosity == "implicit" {
+        "euler"
+    } else {
+        "auto"
+    };
     let case = poiseuille(&[
+        &format!("scheme.conformation_integrator={conformation}"),
         "scene.resolution=15",
         "run.end_time=0.8",
         "run.output_interval=0.1",

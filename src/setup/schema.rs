@@ -193,11 +193,15 @@ pub enum GradientChoice {
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "kebab-case")]
 pub enum IntegratorChoice {
-    /// `strang` with Crank–Nicolson viscosity (a second-order step needs both), `euler`
-    /// otherwise (the paper's update, whose results are then unchanged).
+    /// `strang` with Crank–Nicolson viscosity (a second-order step needs both), else
+    /// `unsplit` in the Eulerian frame (whose flows are the steady ones, and a split update's
+    /// steady state moves with δt/λ), `euler` otherwise (the paper's update, whose results
+    /// are then unchanged).
     Auto,
     Euler,
     Strang,
+    /// The whole rate in one linearly implicit step (log-conformation only).
+    Unsplit,
 }
 
 /// The ALE remap of the conformation (`scheme.conformation_remap`; see
@@ -266,8 +270,8 @@ pub struct SchemeSpec {
     pub time_step: Option<f64>,
     pub frame: Frame,
     pub conformation: ConformationScheme,
-    /// `auto`, `euler` (King & Lind, first order) or `strang` (second order) conformation
-    /// update.
+    /// `auto`, `euler` (King & Lind, first order), `strang` (second order) or `unsplit`
+    /// (first order, steady states independent of δt) conformation update.
     pub conformation_integrator: IntegratorChoice,
     /// The velocity gradient of the constitutive update: `auto`, `solenoidal`,
     /// `wall-normal-even` or `raw` (see `engine::kinematics`).

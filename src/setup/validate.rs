@@ -70,7 +70,7 @@ impl Case {
 use crate::engine::boundary::WallModel;
 use crate::engine::gravity::Gravity;
 use crate::engine::kinematics::ConstitutiveGradient;
-use crate::engine::rheology::ConformationIntegrator;
+use crate::engine::rheology::{ConformationIntegrator, ConformationScheme};
 use crate::engine::viscosity::Viscosity;
 use crate::engine::weakly_compressible::{
     sound_speed_for, ArtificialStress, ArtificialViscosity, WeaklyCompressible,
@@ -358,6 +358,14 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
         .map(|dt| positive("scheme.time_step", dt))
         .transpose()?;
     frame_fits(s, scene)?;
+    if s.conformation_integrator == IntegratorChoice::Unsplit
+        && s.conformation != ConformationScheme::Log
+    {
+        return Err(field_err(
+            "scheme.conformation_integrator",
+            "`unsplit` is formed in Ψ = ln A: it needs scheme.conformation = \"log\"",
+        ));
+    }
     let evss_alpha = in_range("scheme.evss_alpha", s.evss_alpha, 0.0, 1.0)?;
     // Explicit: ν δt/h² = ξ × the elastic Courant number (engine::rheology::hourglass).
     let hourglass_control = in_range("scheme.hourglass_control", s.hourglass_control, 0.0, 1.0)?;
@@ -382,8 +390,14 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
             IntegratorChoice::Auto if s.viscosity == Viscosity::CrankNicolson => {
                 ConformationIntegrator::Strang
             }
+            IntegratorChoice::Auto
+                if s.frame == Frame::Eulerian && s.conformation == ConformationScheme::Log =>
+            {
+                ConformationIntegrator::Unsplit
+            }
             IntegratorChoice::Auto | IntegratorChoice::Euler => ConformationIntegrator::Euler,
             IntegratorChoice::Strang => ConformationIntegrator::Strang,
+            IntegratorChoice::Unsplit => ConformationIntegrator::Unsplit,
         },
         constitutive_gradient: match s.constitutive_gradient {
             // With free surfaces the traceless part is not taken: the coarse Oldroyd-B drop

@@ -5,8 +5,8 @@
 
 use super::remap::{keep_trace_floor, limit_increments, Remap};
 use super::{
-    direct_step, direct_step_strang, log_conformation_step, log_conformation_step_strang, Fluid,
-    Model,
+    direct_step, direct_step_strang, log_conformation_step, log_conformation_step_strang,
+    log_local_rate, log_unsplit_step, Fluid, Model,
 };
 use crate::engine::boundary::Ghosts;
 use crate::engine::math::{Mat2, Sym2, Vec2};
@@ -40,6 +40,10 @@ pub enum ConformationIntegrator {
     /// error of 1.7e-2 at t = 1 with either viscous integrator, 2.4e-3 with the same update
     /// split into eight sub-steps, 1.2e-3 with a 4× smaller δt.
     Strang,
+    /// The whole rate in one linearly implicit Euler step (log-conformation only; see
+    /// [`super::log_unsplit_step`]): first order in δt, and a steady state that does not
+    /// depend on δt, which both splittings' do (by O(δt/λ) and O((δt/λ)²)).
+    Unsplit,
 }
 
 /// One log-conformation update: model, A, Ψ = ln A, u_ps·∇Ψ, ∇u, δt, λ.
@@ -61,7 +65,9 @@ pub struct ConformationStage {
     log_conformation: Vec<Sym2>,
     advection: Vec<Sym2>,
     tensor_ext: Vec<Sym2>,
-    /// [`Remap::SecondOrder`]: the first-order rate with the ghosts', and L of it.
+    /// [`ConformationIntegrator::Unsplit`]: the local part of the rate.
+    local: Vec<Sym2>,
+    /// [`Remap::SecondOrder`]: the rate L is applied to with the ghosts', and L of it.
     rate_ext: Vec<Sym2>,
     second: Vec<Sym2>,
     phi: Vec<Sym2>,
@@ -86,6 +92,7 @@ impl ConformationStage {
             log_conformation: Vec::new(),
             advection: Vec::new(),
             tensor_ext: Vec::new(),
+            local: Vec::new(),
             rate_ext: Vec::new(),
             second: Vec::new(),
             phi: Vec::new(),
@@ -99,6 +106,7 @@ impl ConformationStage {
         b(&self.log_conformation)
             + b(&self.advection)
             + b(&self.tensor_ext)
+            + b(&self.local)
             + b(&self.rate_ext)
             + b(&self.second)
             + b(&self.phi)
@@ -116,7 +124,7 @@ impl ConformationStage {
     /// keeps δt^n, so that its results are those of the paper's scheme.
     pub fn span(&self, previous_dt: f64, dt: f64) -> f64 {
         match self.integrator {
-            ConformationIntegrator::Euler => dt,
+            ConformationIntegrator::Euler | ConformationIntegrator::Unsplit => dt,
             ConformationIntegrator::Strang => 0.5 * (previous_dt + dt),
         }
     }
@@ -159,13 +167,26 @@ impl ConformationStage {
                     .for_each(|(psi, a)| *psi = a.log());
                 // The transport reads the even copy (see [`Self::remap_rate`]).
                 ghosts.extend_tensor(&self.log_conformation, &mut self.tensor_ext);
+                if self.integrator == ConformationIntegrator::Unsplit {
+                    self.local.resize(n, Sym2::ZERO);
+                    self.local
+                        .par_iter_mut()
+                        .zip(conformation.par_iter().zip(grad_u.par_iter()))
+                        .for_each(|(l, (a, g))| *l = log_local_rate(&model, a, g, lambda));
+                }
                 self.remap_rate(hood, u_ps, dt);
-                let (psi, adv) = (&self.log_conformation, &self.advection);
+                let (psi, adv, local) = (&self.log_conformation, &self.advection, &self.local);
                 let step: LogStep = match self.integrator {
                     ConformationIntegrator::Euler => log_conformation_step,
                     ConformationIntegrator::Strang => |m, a, _psi, adv, g, dt, lambda| {
                         log_conformation_step_strang(m, a, adv, g, dt, lambda)
                     },
+                    ConformationIntegrator::Unsplit => {
+                        conformation.par_iter_mut().enumerate().for_each(|(i, a)| {
+                            *a = log_unsplit_step(&model, a, &(adv[i] + local[i]), dt, lambda);
+                        });
+                        return;
+                    }
                 };
                 conformation.par_iter_mut().enumerate().for_each(|(i, a)| {
                     *a = step(&model, a, &psi[i], &adv[i], &grad_u[i], dt, lambda);
@@ -176,7 +197,8 @@ impl ConformationStage {
                 self.remap_rate(hood, u_ps, dt);
                 let adv = &self.advection;
                 let step: DirectStep = match self.integrator {
-                    ConformationIntegrator::Euler => direct_step,
+                    // Refused at set-up (the unsplit step is formed in Ψ).
+                    ConformationIntegrator::Euler | ConformationIntegrator::Unsplit => direct_step,
                     ConformationIntegrator::Strang => direct_step_strang,
                 };
                 conformation.par_iter_mut().enumerate().for_each(|(i, a)| {
@@ -212,7 +234,15 @@ impl ConformationStage {
             }
             Remap::SecondOrder => {
                 sums.advective_tensor(list, ext, u_ps, rate);
-                ghosts.extend_tensor(rate, &mut self.rate_ext);
+                // L of the whole rate where the update is unsplit, which vanishes with it in
+                // a steady state (Lax & Wendroff's Ψ_tt); of the transport alone otherwise.
+                let whole = &mut self.second;
+                whole.clear();
+                whole.extend_from_slice(rate);
+                for (w, l) in whole.iter_mut().zip(&self.local) {
+                    *w += *l;
+                }
+                ghosts.extend_tensor(whole, &mut self.rate_ext);
                 self.second.resize(rate.len(), Sym2::ZERO);
                 sums.advective_tensor(list, &self.rate_ext, u_ps, &mut self.second);
                 rate.par_iter_mut()

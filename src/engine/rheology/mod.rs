@@ -16,7 +16,8 @@ pub use conformation::{ConformationIntegrator, ConformationScheme, ConformationS
 pub use direct::{direct_step, direct_step_strang};
 pub use generalised_newtonian::{LawEntry, ViscosityLaw, LAWS};
 pub use log_conformation::{
-    log_conformation_step, log_conformation_step_strang, log_convective_term, relax,
+    log_conformation_step, log_conformation_step_strang, log_convective_term, log_local_rate,
+    log_unsplit_step, relax,
 };
 pub use models::{
     Constitutive, ExponentialPtt, FeneCr, FeneP, Giesekus, LinearPtt, Model, ModelEntry, OldroydB,
