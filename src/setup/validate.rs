@@ -348,6 +348,29 @@ fn wall_velocity(
     }
 }
 
+/// `scheme.conformation_integrator`, its `auto` resolved ([`IntegratorChoice::Auto`] says
+/// why).
+fn conformation_integrator(s: &SchemeSpec) -> Result<ConformationIntegrator, FieldError> {
+    let log = s.conformation == ConformationScheme::Log;
+    Ok(match s.conformation_integrator {
+        IntegratorChoice::Auto if s.viscosity == Viscosity::CrankNicolson => {
+            ConformationIntegrator::Strang
+        }
+        IntegratorChoice::Auto if s.frame == Frame::Eulerian && log => {
+            ConformationIntegrator::Unsplit
+        }
+        IntegratorChoice::Auto | IntegratorChoice::Euler => ConformationIntegrator::Euler,
+        IntegratorChoice::Strang => ConformationIntegrator::Strang,
+        IntegratorChoice::Unsplit if log => ConformationIntegrator::Unsplit,
+        IntegratorChoice::Unsplit => {
+            return Err(field_err(
+                "scheme.conformation_integrator",
+                "`unsplit` is formed in Ψ = ln A: it needs scheme.conformation = \"log\"",
+            ))
+        }
+    })
+}
+
 fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, FieldError> {
     let open = scene.has_free_surface();
     let method = method(s, scene, fluid)?;
@@ -358,14 +381,6 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
         .map(|dt| positive("scheme.time_step", dt))
         .transpose()?;
     frame_fits(s, scene)?;
-    if s.conformation_integrator == IntegratorChoice::Unsplit
-        && s.conformation != ConformationScheme::Log
-    {
-        return Err(field_err(
-            "scheme.conformation_integrator",
-            "`unsplit` is formed in Ψ = ln A: it needs scheme.conformation = \"log\"",
-        ));
-    }
     let evss_alpha = in_range("scheme.evss_alpha", s.evss_alpha, 0.0, 1.0)?;
     // Explicit: ν δt/h² = ξ × the elastic Courant number (engine::rheology::hourglass).
     let hourglass_control = in_range("scheme.hourglass_control", s.hourglass_control, 0.0, 1.0)?;
@@ -386,19 +401,7 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
         time_step,
         frame: s.frame,
         conformation: s.conformation,
-        conformation_integrator: match s.conformation_integrator {
-            IntegratorChoice::Auto if s.viscosity == Viscosity::CrankNicolson => {
-                ConformationIntegrator::Strang
-            }
-            IntegratorChoice::Auto
-                if s.frame == Frame::Eulerian && s.conformation == ConformationScheme::Log =>
-            {
-                ConformationIntegrator::Unsplit
-            }
-            IntegratorChoice::Auto | IntegratorChoice::Euler => ConformationIntegrator::Euler,
-            IntegratorChoice::Strang => ConformationIntegrator::Strang,
-            IntegratorChoice::Unsplit => ConformationIntegrator::Unsplit,
-        },
+        conformation_integrator: conformation_integrator(s)?,
         constitutive_gradient: match s.constitutive_gradient {
             // With free surfaces the traceless part is not taken: the coarse Oldroyd-B drop
             // (W/δr = 20, Re = 4, De = 1) lost a contact-line particle through the plate at
