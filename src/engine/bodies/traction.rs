@@ -252,3 +252,69 @@ pub fn on_plane_wall(
     }
     force
 }
+
+/// The force on `circle` from a momentum balance over the annulus between it and the
+/// concentric contour of `radius`: F = ∮ (σ − ρuu)·n dS over the contour + ρ g A_annulus, for a
+/// steady flow under the body force `g` per unit mass. The contour's stress comes from fits
+/// through interior particles only (p linear, u quadratic, each with its constant), so it does
+/// not read the wall layers' fields that the surface integral [`on_circle`] extrapolates.
+pub fn on_contour(view: FluidView, circle: &Circle, radius: f64, g: Vec2, samples: usize) -> Vec2 {
+    let FluidView {
+        state: s,
+        kernel,
+        domain,
+        fluid,
+        ..
+    } = view;
+    let support = kernel.support();
+    let h = kernel.h();
+    let near: Vec<usize> = (0..s.position.len())
+        .filter(|&i| {
+            let d = domain.min_image(s.position[i] - circle.centre).norm();
+            (d - radius).abs() < support
+        })
+        .collect();
+    let arc = 2.0 * std::f64::consts::PI * radius / samples as f64;
+    let mut force = Vec2::zeros();
+    for k in 0..samples {
+        let theta = 2.0 * std::f64::consts::PI * (k as f64 + 0.5) / samples as f64;
+        let n = Vec2::new(theta.cos(), theta.sin());
+        let point = circle.centre + radius * n;
+        let (mut linear, mut qu, mut qv) = (Vec::new(), Vec::new(), Vec::new());
+        let mut tau: [Vec<([f64; 3], f64, f64)>; 3] = Default::default();
+        for &i in &near {
+            let d = domain.min_image(s.position[i] - point);
+            if d.norm() >= support {
+                continue;
+            }
+            let w = kernel.value(d.norm());
+            let (x, y) = (d.x / h, d.y / h);
+            linear.push(([1.0, x, y], s.pressure[i], w));
+            let q = [1.0, x, y, x * x, x * y, y * y];
+            qu.push((q, s.velocity[i].x, w));
+            qv.push((q, s.velocity[i].y, w));
+            if fluid.model.is_viscoelastic() {
+                let t = fluid.polymer_stress(&s.conformation[i]);
+                for (rows, v) in tau.iter_mut().zip([t.xx, t.xy, t.yy]) {
+                    rows.push(([1.0, x, y], v, w));
+                }
+            }
+        }
+        let (Some(p), Some(gu), Some(gv)) = (fit(&linear), fit(&qu), fit(&qv)) else {
+            continue;
+        };
+        let polymer = if fluid.model.is_viscoelastic() {
+            let t: Vec<f64> = tau.iter().filter_map(|r| fit(r).map(|c| c[0])).collect();
+            Sym2::new(t[0], t[1], t[2])
+        } else {
+            Sym2::ZERO
+        };
+        let grad = Mat2::new(gu[1] / h, gu[2] / h, gv[1] / h, gv[2] / h);
+        let strain = Sym2::sym_part(&grad) * (2.0 * fluid.solvent_viscosity());
+        let u = Vec2::new(gu[0], gv[0]);
+        let flux = u * (fluid.density * u.dot(&n));
+        force += (-p[0] * n + strain.dot(&n) + polymer.dot(&n) - flux) * arc;
+    }
+    let area = std::f64::consts::PI * (radius * radius - circle.radius * circle.radius);
+    force + g * (fluid.density * area)
+}

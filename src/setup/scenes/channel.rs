@@ -57,6 +57,11 @@ pub struct ChannelSpec {
     /// fluid's weight being balanced by a hydrostatic pressure left out of the solve.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub gravity: Option<[f64; 2]>,
+    /// The plates at y = 0 and H (true, the default); false: periodic in y as well, with a
+    /// cylinder a square array of cylinders, whose drag has a series solution
+    /// (`engine::bodies` has no wall to share the load with).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub walls: Option<bool>,
 }
 
 /// `[scene.cylinder]`.
@@ -93,6 +98,8 @@ pub struct Channel {
     pub contact: Option<Contact>,
     /// g_s on the discs' buoyant mass.
     pub gravity: Vec2,
+    /// Plates at y = 0 and H; false: periodic in y.
+    pub walls: bool,
 }
 
 impl ChannelSpec {
@@ -143,8 +150,12 @@ impl ChannelSpec {
             None => None,
             Some(cy) => Some(cy.validate(self.length, self.height, self.resolution)?),
         };
+        let walls = self.validate_walls(wall_velocity)?;
         let rings = match (&self.cylinder, cylinder) {
-            (Some(spec), Some(c)) => spec.validate_rings(&c, self.height, self.resolution)?,
+            (Some(spec), Some(c)) if walls => {
+                spec.validate_rings(&c, self.height, self.resolution)?
+            }
+            (Some(spec), Some(_)) => spec.rings,
             _ => 0,
         };
         let mean_flow = match self.mean_flow {
@@ -188,7 +199,27 @@ impl ChannelSpec {
             discs,
             contact,
             gravity,
+            walls,
         })
+    }
+
+    /// `scene.walls`: without plates the box is a periodic cell of a square array, which
+    /// needs a cylinder to hold it and has no wall to slide.
+    fn validate_walls(&self, wall_velocity: [f64; 2]) -> Result<bool, FieldError> {
+        let walls = self.walls.unwrap_or(true);
+        if !walls && self.cylinder.is_none() {
+            return Err(field_err(
+                "scene.walls",
+                "false (periodic in y) needs a [scene.cylinder]; a box periodic both ways without one is kind = \"taylor-green\"",
+            ));
+        }
+        if !walls && wall_velocity != [0.0, 0.0] {
+            return Err(field_err(
+                "scene.walls",
+                "false (periodic in y) leaves no wall for scene.wall_velocity to move",
+            ));
+        }
+        Ok(walls)
     }
 
     fn validate_gravity(&self) -> Result<Vec2, FieldError> {
@@ -244,12 +275,12 @@ impl CylinderSpec {
 }
 
 impl Channel {
-    /// The box: periodic in x, walls at y = 0 and H.
+    /// The box: periodic in x, walls at y = 0 and H (or periodic in y too).
     fn domain(&self) -> Domain {
         Domain {
             min: Vec2::zeros(),
             max: Vec2::new(self.bounds.length, self.bounds.height),
-            periodic: [true, false],
+            periodic: [true, !self.walls],
         }
     }
 
@@ -374,10 +405,11 @@ impl Scene for Channel {
             position: self.bounds.height,
             fluid_side: -1.0,
         };
-        let mut walls = vec![
-            sliding(Shape::Plane(Plane::floor()), self.wall_velocity[0]),
-            sliding(Shape::Plane(top), self.wall_velocity[1]),
-        ];
+        let mut walls = Vec::new();
+        if self.walls {
+            walls.push(sliding(Shape::Plane(Plane::floor()), self.wall_velocity[0]));
+            walls.push(sliding(Shape::Plane(top), self.wall_velocity[1]));
+        }
         walls.extend(self.cylinder.map(|c| wall(Shape::Circle(c))));
         Setup {
             domain: self.domain(),
@@ -521,5 +553,28 @@ mod tests {
             format!("{err:?}").contains("scene.cylinder.rings"),
             "{err:?}"
         );
+    }
+
+    /// Without plates the box is periodic both ways; it needs a cylinder and has no wall to
+    /// slide, and each refusal names `scene.walls`.
+    #[test]
+    fn a_channel_without_walls_is_periodic_and_needs_a_cylinder() {
+        let spec = |extra: &str| -> Result<Channel, FieldError> {
+            toml::from_str::<ChannelSpec>(&format!(
+                "length = 6.0\nheight = 6.0\nresolution = 60\nbody_force = [1.0, 0.0]\n\
+                 walls = false\n{extra}"
+            ))
+            .unwrap()
+            .validate()
+        };
+        let array = spec("velocity = 1.0\n[cylinder]\nradius = 1.0\n").unwrap();
+        assert_eq!(array.domain().periodic, [true, true]);
+        for extra in [
+            "",
+            "wall_velocity = [1.0, 0.0]\nvelocity = 1.0\n[cylinder]\nradius = 1.0\n",
+        ] {
+            let err = spec(extra).unwrap_err();
+            assert!(format!("{err:?}").contains("scene.walls"), "{err:?}");
+        }
     }
 }

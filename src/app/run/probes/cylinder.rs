@@ -27,6 +27,8 @@ pub struct CylinderProbe {
     criterion: Option<SteadyCriterion>,
     /// The case's end time: a run that never becomes steady averages its last `average` units.
     run_end: f64,
+    /// The channel's length (the walls' load in the momentum balance).
+    length: f64,
     state: SteadyState,
 }
 
@@ -50,6 +52,7 @@ impl CylinderProbe {
             centreline: Centreline::new(centre, circle.radius, case.scene.length(), 161),
             criterion: case.steady,
             run_end: case.end_time,
+            length: case.scene.length(),
             state: SteadyState::default(),
         }
     }
@@ -146,7 +149,9 @@ impl Probe for CylinderProbe {
         let avg = self.averages(sim, rows);
         let eta_s = sim.fluid.solvent_viscosity();
         let radius = self.circle.radius;
-        let summary = avg.summary(self.state.steady_at, eta_s, radius, &self.centreline.s);
+        let mut summary = avg.summary(self.state.steady_at, eta_s, radius, &self.centreline.s);
+        let balance = forces::momentum_balance(sim, &self.circle, self.length, summary.u_mean);
+        summary.momentum_balance = Some(balance);
         let csv = centreline_csv(&self.centreline, &avg, &summary, eta_s, radius);
         io::write_atomic(&dir.join("centreline.csv"), csv.as_bytes())?;
         if let Some(format) = charts {

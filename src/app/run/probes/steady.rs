@@ -124,6 +124,7 @@ impl Averages {
             min_det_a_centreline: profile.det_a.iter().copied().fold(f64::INFINITY, f64::min),
             min_det_a: self.min_det_a,
             max_trace_a: self.max_trace_a,
+            momentum_balance: None,
         }
     }
 }
@@ -151,6 +152,10 @@ pub struct SteadySummary {
     pub min_det_a_centreline: f64,
     pub min_det_a: f64,
     pub max_trace_a: f64,
+    /// The final state's x-momentum balance (the body force against the cylinder's and the
+    /// plane walls' loads).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub momentum_balance: Option<crate::analysis::forces::MomentumBalance>,
 }
 
 #[cfg(test)]
