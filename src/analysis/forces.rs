@@ -61,17 +61,18 @@ pub struct MomentumBalance {
     pub contour: [Option<f64>; 3],
 }
 
-/// [`MomentumBalance`] of `sim` for `circle` in a channel of `length` whose walls are the
-/// planes y = const of the scene, with mean velocity `u_mean`.
+/// [`MomentumBalance`] of `sim` for `circle` (its surface integral over `samples` points)
+/// in a channel periodic along x whose walls are the planes y = const of the scene, with mean
+/// velocity `u_mean`.
 pub fn momentum_balance(
     sim: &Simulation,
     circle: &Circle,
-    length: f64,
+    samples: usize,
     u_mean: f64,
 ) -> MomentumBalance {
     let scale = 1.0 / (sim.fluid.viscosity * u_mean);
-    let samples = ((2.0 * length / sim.spacing).ceil() as usize).max(64);
-    let arc = 2.0 * std::f64::consts::PI * circle.radius / sim.spacing;
+    let length = sim.domain.max.x - sim.domain.min.x;
+    let wall_samples = ((2.0 * length / sim.spacing).ceil() as usize).max(64);
     let planes: Vec<f64> = sim
         .walls()
         .iter()
@@ -83,15 +84,13 @@ pub fn momentum_balance(
     let walls: f64 = planes
         .iter()
         .map(|&y| {
-            on_plane_wall(view(sim), y, length, Vec2::zeros(), samples)
+            on_plane_wall(view(sim), y, length, Vec2::zeros(), wall_samples)
                 .total()
                 .x
         })
         .sum();
     let body = sim.fluid.density * sim.fluid_volume() * sim.state.body_force.x * scale;
-    let cylinder = on_cylinder(sim, circle, ((2.0 * arc).ceil() as usize).max(64))
-        .total()
-        .x;
+    let cylinder = on_cylinder(sim, circle, samples).total().x;
     let (cylinder, walls) = (cylinder * scale, walls * scale);
     let clearance = planes
         .iter()

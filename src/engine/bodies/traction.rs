@@ -80,6 +80,12 @@ fn fit<const K: usize>(rows: &[([f64; K], f64, f64)]) -> Option<DVector<f64>> {
     m.lu().solve(&b)
 }
 
+/// The value at the origin of linear fits of τ_xx, τ_xy, τ_yy; None where one is singular.
+fn tensor_fit(rows: &[Vec<([f64; 3], f64, f64)>; 3]) -> Option<Sym2> {
+    let [xx, xy, yy] = [&rows[0], &rows[1], &rows[2]].map(|r| fit(r).map(|c| c[0]));
+    Some(Sym2::new(xx?, xy?, yy?))
+}
+
 /// What the integration reads of a simulation.
 #[derive(Clone, Copy)]
 pub struct FluidView<'a> {
@@ -139,14 +145,7 @@ fn traction_at(
     }
     let (p, gu, gv) = (fit(&linear)?, fit(&quadratic_u)?, fit(&quadratic_v)?);
     let polymer = if viscoelastic {
-        let t: Vec<f64> = tau_rows
-            .iter()
-            .filter_map(|rows| fit(rows).map(|c| c[0]))
-            .collect();
-        if t.len() != 3 {
-            return None;
-        }
-        Sym2::new(t[0], t[1], t[2])
+        tensor_fit(&tau_rows)?
     } else {
         Sym2::ZERO
     };
@@ -303,11 +302,12 @@ pub fn on_contour(view: FluidView, circle: &Circle, radius: f64, g: Vec2, sample
         let (Some(p), Some(gu), Some(gv)) = (fit(&linear), fit(&qu), fit(&qv)) else {
             continue;
         };
-        let polymer = if fluid.model.is_viscoelastic() {
-            let t: Vec<f64> = tau.iter().filter_map(|r| fit(r).map(|c| c[0])).collect();
-            Sym2::new(t[0], t[1], t[2])
-        } else {
-            Sym2::ZERO
+        let polymer = match fluid.model.is_viscoelastic() {
+            true => tensor_fit(&tau),
+            false => Some(Sym2::ZERO),
+        };
+        let Some(polymer) = polymer else {
+            continue;
         };
         let grad = Mat2::new(gu[1] / h, gu[2] / h, gv[1] / h, gv[2] / h);
         let strain = Sym2::sym_part(&grad) * (2.0 * fluid.solvent_viscosity());

@@ -27,8 +27,6 @@ pub struct CylinderProbe {
     criterion: Option<SteadyCriterion>,
     /// The case's end time: a run that never becomes steady averages its last `average` units.
     run_end: f64,
-    /// The channel's length (the walls' load in the momentum balance).
-    length: f64,
     state: SteadyState,
 }
 
@@ -52,7 +50,6 @@ impl CylinderProbe {
             centreline: Centreline::new(centre, circle.radius, case.scene.length(), 161),
             criterion: case.steady,
             run_end: case.end_time,
-            length: case.scene.length(),
             state: SteadyState::default(),
         }
     }
@@ -150,7 +147,7 @@ impl Probe for CylinderProbe {
         let eta_s = sim.fluid.solvent_viscosity();
         let radius = self.circle.radius;
         let mut summary = avg.summary(self.state.steady_at, eta_s, radius, &self.centreline.s);
-        let balance = forces::momentum_balance(sim, &self.circle, self.length, summary.u_mean);
+        let balance = forces::momentum_balance(sim, &self.circle, self.samples, summary.u_mean);
         summary.momentum_balance = Some(balance);
         let csv = centreline_csv(&self.centreline, &avg, &summary, eta_s, radius);
         io::write_atomic(&dir.join("centreline.csv"), csv.as_bytes())?;
