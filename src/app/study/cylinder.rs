@@ -21,7 +21,10 @@ pub struct Row {
     pub t_reached: f64,
     pub steady_at: Option<f64>,
     pub u_mean: f64,
+    /// K from the momentum balance; the surface integral's K and its pressure, solvent and
+    /// polymer parts.
     pub drag_k: f64,
+    pub drag_k_surface: f64,
     pub k_parts: [f64; 3],
     pub peak_tau_xx: f64,
     /// Smallest det A over the averaging window, and over every output of the run.
@@ -194,6 +197,7 @@ fn row(f: &super::Finished, wi: f64, radius: f64) -> Row {
         steady_at: st.and_then(|x| x.reached_at),
         u_mean: st.map_or(f64::NAN, |x| x.u_mean),
         drag_k: st.map_or(f64::NAN, |x| x.drag_k),
+        drag_k_surface: st.map_or(f64::NAN, |x| x.drag_k_surface),
         k_parts: st.map_or([f64::NAN; 3], |x| [x.k_pressure, x.k_solvent, x.k_polymer]),
         peak_tau_xx: st.map_or(f64::NAN, |x| x.peak_tau_xx_centreline),
         min_det_a: st.map_or(f64::NAN, |x| x.min_det_a),
@@ -296,12 +300,12 @@ pub fn centreline_charts(
 
 fn csv(rows: &[Row]) -> String {
     let mut s = String::from(
-        "wi,radius_over_dr,outcome,t_reached,steady_at,u_mean,drag_k,k_pressure,k_solvent,k_polymer,peak_tau_xx_centreline,min_det_a,min_det_a_run,particles,steps,wall_seconds\n",
+        "wi,radius_over_dr,outcome,t_reached,steady_at,u_mean,drag_k,drag_k_surface,k_pressure,k_solvent,k_polymer,peak_tau_xx_centreline,min_det_a,min_det_a_run,particles,steps,wall_seconds\n",
     );
     for r in rows {
         let _ = writeln!(
             s,
-            "{},{:.4},{},{:.6e},{},{:.8e},{:.8e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{},{},{:.3}",
+            "{},{:.4},{},{:.6e},{},{:.8e},{:.8e},{:.8e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{},{},{:.3}",
             r.wi,
             r.radius_over_dr,
             r.outcome,
@@ -309,6 +313,7 @@ fn csv(rows: &[Row]) -> String {
             r.steady_at.map_or(String::new(), |t| format!("{t:.6e}")),
             r.u_mean,
             r.drag_k,
+            r.drag_k_surface,
             r.k_parts[0],
             r.k_parts[1],
             r.k_parts[2],

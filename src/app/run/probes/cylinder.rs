@@ -86,13 +86,15 @@ impl Probe for CylinderProbe {
         "steady"
     }
 
-    /// K and its pressure, solvent and polymer parts.
+    /// K from the surface integral and its pressure, solvent and polymer parts; the pressure
+    /// part includes the driving gradient's ([`forces::displaced`]).
     fn fill_row(&mut self, sim: &mut Simulation, row: &mut SeriesRow) {
         let t0 = Instant::now();
         let f = forces::on_cylinder(sim, &self.circle, self.samples);
         let scale = 1.0 / (sim.fluid.viscosity * row.u_mean);
-        row.drag_k = f.total().x * scale;
-        row.k_pressure = f.pressure[0] * scale;
+        let displaced = forces::displaced(sim, &self.circle);
+        row.drag_k = (f.total().x + displaced) * scale;
+        row.k_pressure = (f.pressure[0] + displaced) * scale;
         row.k_solvent = f.solvent[0] * scale;
         row.k_polymer = f.polymer[0] * scale;
         sim.timers
@@ -148,6 +150,8 @@ impl Probe for CylinderProbe {
         let radius = self.circle.radius;
         let mut summary = avg.summary(self.state.steady_at, eta_s, radius, &self.centreline.s);
         let balance = forces::momentum_balance(sim, &self.circle, self.samples, summary.u_mean);
+        summary.drag_k_surface = summary.drag_k;
+        summary.drag_k = balance.drag;
         summary.momentum_balance = Some(balance);
         let csv = centreline_csv(&self.centreline, &avg, &summary, eta_s, radius);
         io::write_atomic(&dir.join("centreline.csv"), csv.as_bytes())?;
