@@ -99,8 +99,8 @@ fn resumed_run_matches_uninterrupted() {
 /// no extrapolation is claimed: the coarse K must be within 4 % of the R/δr = 18 value and
 /// ⟨u⟩ within 2.5 % (twice the measured +2.1 % and −1.2 %). A broken mirror or projection
 /// misses by far more: the standard projection with implicit viscosity gave ⟨u⟩ = 1.69. The
-/// annuli around the cylinder (`contour`, which read no wall layer) must give the same drag
-/// as the balance against the plates within 2 % (measured 132.1–133.5 against 134.75).
+/// annuli around the cylinder (`contour`, which read no wall layer, final state) must give
+/// the balance's drag within 3 % (measured 132.1–133.5 against 134.75, −2.0 % at worst).
 #[test]
 fn stokes_drag_on_a_coarse_array_is_near_the_resolved_value() {
     let tmp = tempfile::tempdir().unwrap();
@@ -126,7 +126,7 @@ fn stokes_drag_on_a_coarse_array_is_near_the_resolved_value() {
     assert!((u / 0.8838 - 1.0).abs() < 0.025, "<u> = {u}");
     for c in st["momentum_balance"]["contour"].as_array().unwrap() {
         let c = c.as_f64().unwrap();
-        assert!((c / k - 1.0).abs() < 0.02, "annulus {c} against {k}: {st}");
+        assert!((c / k - 1.0).abs() < 0.03, "annulus {c} against {k}: {st}");
     }
 }
 
@@ -160,12 +160,12 @@ fn an_unsteady_run_averages_its_last_time_units() {
 /// The Newtonian confined cylinder (blockage 0.5, R/δr = 10, ⟨u⟩ held at 1) on fixed
 /// particles, run to its steady state, then continued from it at half the time step. A
 /// steady state of a consistent scheme does not depend on δt, so the drag must not move:
-/// measured K = 132.692 (the momentum balance, `summary.json` `steady.drag_k`; from rest to
-/// t = 3), then 132.660 over the last 0.3 of 0.5 time units at half the step (−0.024 %;
+/// measured K = 132.663 (the momentum balance, `summary.json` `steady.drag_k`; from rest to
+/// t = 3), then 132.656 over the last 0.3 of 0.5 time units at half the step (−0.005 %;
 /// bound 0.05 %). Without the projection's pressure stabilisation the drag crept up with the
 /// number of steps taken (about +0.6 % per hundred steps), which the bound fails by far.
 /// Against the finite-volume K = 132.36 (Alves, Pinho & Oliveira 2001;
-/// `cases/confined-cylinder-drag.csv`) the measured +0.25 % (+0.11 % at R/δr = 15, +0.05 % at
+/// `cases/confined-cylinder-drag.csv`) the measured +0.23 % (+0.11 % at R/δr = 15, +0.05 % at
 /// 20) is bounded by 0.5 %: the first-order Laplacian (+2.2 %) and a drag without the force of
 /// the driving pressure gradient on the cylinder (−5.3 %, `analysis::forces::displaced`) fail
 /// it.
@@ -216,8 +216,8 @@ fn newtonian_confined_cylinder_drag_is_steady_and_independent_of_the_step() {
 
 /// The Newtonian confined cylinder (R/δr = 10, fixed particles, ⟨u⟩ held at 1, to t = 3) with
 /// its centre on a lattice node and a quarter spacing along the axis from it. With the case's
-/// three body-conforming rings the drag (momentum balance) is K = 132.692 and 132.770
-/// (0.06 % apart, +0.25 % and +0.31 % from the finite-volume 132.36 of Alves, Pinho &
+/// three body-conforming rings the drag (momentum balance) is K = 132.663 and 132.740
+/// (0.06 % apart, +0.23 % and +0.29 % from the finite-volume 132.36 of Alves, Pinho &
 /// Oliveira 2001); the lattice cut by the cylinder alone moved the surface integral's K by
 /// 2.5 % for the same shift. Bounds: 0.2 % apart (three times the rings' spread, a tenth of
 /// the lattice's), each within 0.5 % of 132.36 (as the test above).
@@ -253,7 +253,7 @@ fn newtonian_confined_cylinder_drag_does_not_depend_on_the_lattice_placement() {
 /// ⟨u⟩ held at 1) against the series solution of Sangani & Acrivos (1982), K = 22.310 for a
 /// mean pressure gradient, which the body force stands for (`analysis::forces::displaced`).
 /// The cylinder is the only sink of momentum, so the drive measures the drag of the flow
-/// itself: measured 21.98 (−1.45 %; −0.22 % at R/δr = 15, −0.20 % at 20, −0.04 % at 40).
+/// itself: measured 21.996 (−1.41 %; −0.22 % at R/δr = 15, −0.20 % at 20, −0.04 % at 40).
 /// Bound: 2.5 %, the coarse resolution's error with a margin for the steady criterion. The
 /// case runs in about 12 s.
 #[test]
@@ -271,6 +271,7 @@ fn newtonian_square_array_drag_matches_sangani_acrivos() {
         (k / exact - 1.0).abs() < 0.025,
         "K = {k} against {exact}: {st}"
     );
+    // No walls: the drive is the drag (the final state's against the window's mean).
     let body = st["momentum_balance"]["body"].as_f64().unwrap();
-    assert_eq!(k, body, "no walls: the drive is the drag");
+    assert!((k / body - 1.0).abs() < 1e-3, "K = {k}, drive {body}");
 }

@@ -230,7 +230,8 @@ fn charts(
         label: "rheosph".into(),
         points: rows
             .iter()
-            .filter(|r| r.drag_k.is_finite())
+            // A run that broke down has no steady drag to draw (the table keeps its row).
+            .filter(|r| r.drag_k.is_finite() && r.outcome == "Finished")
             .map(|r| (r.wi, r.drag_k))
             .collect(),
         style: CurveStyle::Line,

@@ -56,15 +56,14 @@ impl CylinderProbe {
 
     /// The averages of the steady window; without one, those of the run's last `average`
     /// time units; without those (no criterion), the final state alone.
-    fn averages(&mut self, sim: &Simulation, rows: &[SeriesRow]) -> Averages {
+    fn averages(&mut self, sim: &mut Simulation, rows: &[SeriesRow]) -> Averages {
         let steady = self.state.averages.take().filter(|a| a.samples > 0);
         match steady.or_else(|| self.state.tail.take().filter(|a| a.samples > 0)) {
             Some(a) => a,
             None => {
                 let mut a = Averages::new(sim.state.time);
-                let profile = self.centreline.sample(sim, &sim.polymer_stress());
                 if let Some(last) = rows.last() {
-                    a.add(last, &profile);
+                    add_sample(&mut a, &self.centreline, &self.circle, sim, last);
                 }
                 a
             }
@@ -72,11 +71,18 @@ impl CylinderProbe {
     }
 }
 
-/// Adds `row` and the centre-line profile of the current state to `avg` (diagnostics time).
-fn add_sample(avg: &mut Averages, centreline: &Centreline, sim: &mut Simulation, row: &SeriesRow) {
+/// Adds `row`, the centre-line profile and the momentum balance's drag of the current state
+/// to `avg` (diagnostics time).
+fn add_sample(
+    avg: &mut Averages,
+    centreline: &Centreline,
+    circle: &Circle,
+    sim: &mut Simulation,
+    row: &SeriesRow,
+) {
     let t0 = Instant::now();
     let profile = centreline.sample(sim, &sim.polymer_stress());
-    avg.add(row, &profile);
+    avg.add(row, &profile, forces::balance_drag(sim, circle, row.u_mean));
     sim.timers
         .add(Stage::Diagnostics, t0.elapsed().as_secs_f64());
 }
@@ -109,7 +115,7 @@ impl Probe for CylinderProbe {
         let criterion = self.criterion?;
         let last = &rows[rows.len() - 1];
         if let Some(avg) = self.state.averages.as_mut() {
-            add_sample(avg, &self.centreline, sim, last);
+            add_sample(avg, &self.centreline, &self.circle, sim, last);
             return None;
         }
         if let Some(t) = criterion.reached(rows) {
@@ -121,7 +127,7 @@ impl Probe for CylinderProbe {
         // never is.
         if last.t >= self.run_end - criterion.average - 1e-12 {
             let tail = self.state.tail.get_or_insert_with(|| Averages::new(last.t));
-            add_sample(tail, &self.centreline, sim, last);
+            add_sample(tail, &self.centreline, &self.circle, sim, last);
         }
         None
     }
@@ -150,8 +156,6 @@ impl Probe for CylinderProbe {
         let radius = self.circle.radius;
         let mut summary = avg.summary(self.state.steady_at, eta_s, radius, &self.centreline.s);
         let balance = forces::momentum_balance(sim, &self.circle, self.samples, summary.u_mean);
-        summary.drag_k_surface = summary.drag_k;
-        summary.drag_k = balance.drag;
         summary.momentum_balance = Some(balance);
         let csv = centreline_csv(&self.centreline, &avg, &summary, eta_s, radius);
         io::write_atomic(&dir.join("centreline.csv"), csv.as_bytes())?;

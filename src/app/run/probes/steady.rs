@@ -43,6 +43,9 @@ pub struct Averages {
     pub samples: usize,
     u_mean: f64,
     k: [f64; 4],
+    /// Σ of the momentum balance's drag ([`crate::analysis::forces::balance_drag`]).
+    #[serde(default)]
+    drag: f64,
     min_det_a: f64,
     max_trace_a: f64,
     profile: Profile,
@@ -60,9 +63,10 @@ impl Averages {
         }
     }
 
-    /// Adds one output row and its centre-line profile.
-    pub fn add(&mut self, row: &SeriesRow, profile: &Profile) {
+    /// Adds one output row, its centre-line profile and the momentum balance's drag.
+    pub fn add(&mut self, row: &SeriesRow, profile: &Profile, drag: f64) {
         self.samples += 1;
+        self.drag += drag;
         self.to = row.t;
         self.u_mean += row.u_mean;
         for (a, v) in
@@ -115,7 +119,7 @@ impl Averages {
             averaged_to: self.to,
             samples: self.samples,
             u_mean: u,
-            drag_k: self.k[0] / n,
+            drag_k: self.drag / n,
             drag_k_surface: self.k[0] / n,
             k_pressure: self.k[1] / n,
             k_solvent: self.k[2] / n,
@@ -141,11 +145,12 @@ pub struct SteadySummary {
     pub samples: usize,
     /// ⟨u⟩ = Q/H.
     pub u_mean: f64,
-    /// K = F_x/(η0⟨u⟩): the cylinder probe's momentum balance of the final state
-    /// (`momentum_balance.drag`), which the surface integral reads 2–6 % high.
+    /// K = F_x/(η0⟨u⟩) from the momentum balance (`analysis::forces::balance_drag`), the
+    /// window's mean; the surface integral reads it 2–6 % high.
     pub drag_k: f64,
     /// The window's mean of the surface integral's K, and its pressure, solvent and polymer
-    /// parts.
+    /// parts; both K's and the pressure part include the driving gradient's force
+    /// (`analysis::forces::displaced`).
     #[serde(default)]
     pub drag_k_surface: f64,
     pub k_pressure: f64,
