@@ -101,10 +101,13 @@ $R run $S/Wi_4/case.toml --from $S/Wi_4 --set run.end_time=10 --set run.steady.t
 $R compare-centrelines $S/Wi_1 $S/Wi_2 runs/p2-wi4-continued runs/p2-wi16/s144 \
   --labels "Wi = 1","Wi = 2","Wi = 4","Wi = 16" --out plots/cylinder-array/p2-fig11
 # The confined cylinder (30R x 4R periodic, <u> held at 1, fixed particles) against the
-# published drag: R/dr = 10 to Wi = 0.9, and R/dr = 20 at Wi = 0 and 0.7.
+# published drag: R/dr = 10 to Wi = 0.9, R/dr = 15 and 20 at Wi = 0.3 ... 0.7 (about 1 h
+# and 2.5 h of one core).
 $R study cylinder cases/confined-cylinder.toml --wi 0,0.1,0.3,0.5,0.7,0.9 \
   --reference cases/confined-cylinder-drag.csv --out plots/confined-cylinder
-$R study cylinder cases/confined-cylinder.toml --wi 0,0.7 --set scene.resolution=80 \
+$R study cylinder cases/confined-cylinder.toml --wi 0,0.3,0.5,0.7 --set scene.resolution=60 \
+  --reference cases/confined-cylinder-drag.csv --out plots/confined-cylinder/r15
+$R study cylinder cases/confined-cylinder.toml --wi 0,0.5,0.7 --set scene.resolution=80 \
   --reference cases/confined-cylinder-drag.csv --out plots/confined-cylinder/r20
 fi
 
