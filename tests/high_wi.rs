@@ -79,6 +79,13 @@ fn the_default_remap_keeps_the_start_up_at_wi_128_on_the_series() {
 
 /// The series of the shipped cylinder array at R/δr = 9 with the extra `--set` keys `sets`.
 fn coarse_array_series(sets: &[String]) -> Vec<rheosph::app::io::SeriesRow> {
+    let (rows, finished) = coarse_array_run(sets);
+    assert!(finished, "{sets:?}: broke down");
+    rows
+}
+
+/// [`coarse_array_series`], and whether the run finished (false: it broke down).
+fn coarse_array_run(sets: &[String]) -> (Vec<rheosph::app::io::SeriesRow>, bool) {
     let tmp = tempfile::tempdir().unwrap();
     let mut command = Command::new(env!("CARGO_BIN_EXE_rheosph"));
     command.args(["-q", "run", "cases/cylinder-array.toml", "--no-snapshots"]);
@@ -87,8 +94,13 @@ fn coarse_array_series(sets: &[String]) -> Vec<rheosph::app::io::SeriesRow> {
         command.arg("--set").arg(set);
     }
     let status = command.arg("--out").arg(tmp.path()).status().unwrap();
-    assert!(status.success(), "{sets:?}: {status}");
-    read_series(&tmp.path().join("series.csv")).unwrap()
+    // Exit status 3: the run broke down (and wrote its series up to then).
+    assert!(
+        status.success() || status.code() == Some(3),
+        "{sets:?}: {status}"
+    );
+    let rows = read_series(&tmp.path().join("series.csv")).unwrap();
+    (rows, status.success())
 }
 
 /// The smallest det A over a series' outputs.
@@ -161,14 +173,15 @@ fn the_limited_remap_keeps_det_a_at_least_one_in_the_eulerian_frame() {
 /// |ln tr A_i − its neighbours' kernel mean|) in the cylinder array at Wi = 8 (R/δr = 9,
 /// ⟨u⟩ held at 1, default step). The shift's remap u_ps·∇Ψ with the central (limited)
 /// increment has no dissipation, and at Wi ≥ 4 the relaxation 1/λ is too slow to damp what
-/// it leaves: measured 0.21, 0.29 at t = 4, 5, still growing until a particle crosses the
-/// cylinder (t ≈ 11). The shipped case's upwind remap damps the odd–even mode: 0.12, 0.14,
-/// saturated from t ≈ 3.5. Bounds between the two: upwind < 0.2, limited > 0.24 at t = 5;
-/// det A ≥ 1 at every output with either (1 − 1e-6: both increments are limited).
+/// it leaves: measured 0.11, 0.15, 0.19, 0.21 at t = 2.5, 3, 3.5, 3.8, when a particle
+/// crosses the cylinder and the run stops. The shipped case's upwind remap damps the
+/// odd–even mode: 0.11, 0.12 at t = 4, 5, saturated from t ≈ 3.5. Bounds: upwind < 0.2 to
+/// t = 5; limited breaks down before t = 5 or passes 0.24; det A ≥ 1 at every output with
+/// either (1 − 1e-6: both increments are limited).
 #[test]
 fn the_upwind_remap_keeps_the_stress_noise_bounded_at_wi_8() {
     let noise = |remap: &str| {
-        let rows = coarse_array_series(&[
+        let (rows, finished) = coarse_array_run(&[
             "fluid.relaxation_time=8".into(),
             "scene.mean_flow=1".into(),
             "run.end_time=5".into(),
@@ -177,16 +190,17 @@ fn the_upwind_remap_keeps_the_stress_noise_bounded_at_wi_8() {
         ]);
         let min_det = series_min_det_a(&rows);
         assert!(min_det >= 1.0 - 1e-6, "{remap}: min det A {min_det}");
-        rows.last().unwrap().conformation_noise
+        (rows.last().unwrap().conformation_noise, finished)
     };
     let shipped = case::parse(include_str!("../cases/cylinder-array.toml"), "c", "c", &[]).unwrap();
     assert_eq!(
         shipped.scheme.conformation_remap,
         rheosph::engine::rheology::Remap::Upwind
     );
-    let (upwind, limited) = (noise("upwind"), noise("limited"));
-    assert!(upwind < 0.2, "upwind: noise {upwind}");
-    assert!(limited > 0.24, "limited: noise {limited}");
+    let (upwind, finished) = noise("upwind");
+    assert!(finished && upwind < 0.2, "upwind: noise {upwind}");
+    let (limited, finished) = noise("limited");
+    assert!(!finished || limited > 0.24, "limited: noise {limited}");
 }
 
 /// The shipped UCM channel (β = 0, α_V = 0.01, H/δr = 30) at Wi = 32 to t = 12. Without the
