@@ -23,6 +23,7 @@ pub mod predictor;
 pub mod pressure;
 pub mod projection;
 pub mod reduce;
+pub mod resolution;
 pub mod rheology;
 pub mod scheme;
 pub mod shifting;

@@ -18,6 +18,7 @@ use crate::engine::math::Vec2;
 use crate::engine::neighbours::{Domain, NeighbourList, NeighbourSearch};
 use crate::engine::operators::KernelSums;
 use crate::engine::ordering::Reorder;
+use crate::engine::resolution::{Graded, Local, Resolution};
 use rayon::prelude::*;
 
 /// The skin `scheme.neighbour_skin` defaults to, in units of δr, when it pays: the cell search
@@ -62,6 +63,13 @@ pub struct Neighbourhood {
     skin: f64,
     /// Cell searches run so far.
     searches: usize,
+    /// The particles' layout ([`crate::engine::resolution`]).
+    resolution: Resolution,
+    /// Under graded resolution, each fluid particle's spacing and volume (empty: uniform).
+    local: Vec<Local>,
+    /// Under graded resolution, each row's spacing and support.
+    row_spacing: Vec<f64>,
+    row_support: Vec<f64>,
 }
 
 impl Neighbourhood {
@@ -84,6 +92,17 @@ impl Neighbourhood {
             .fold(f64::INFINITY, f64::min);
         self.skin = skin.min(deepest - support).max(0.0);
         self.invalidate();
+    }
+
+    /// Grades the particles' resolution (fixed particles only: the lists are built once).
+    pub fn set_resolution(&mut self, resolution: Resolution) {
+        self.resolution = resolution;
+        self.invalidate();
+    }
+
+    /// Each fluid particle's spacing and volume under graded resolution (empty: uniform).
+    pub fn local(&self) -> &[Local] {
+        &self.local
     }
 
     /// Cell searches run so far (a step that reuses the candidates runs none).
@@ -128,6 +147,11 @@ impl Neighbourhood {
         }
         self.ghosts.domain = Some(*domain);
         let support = kernel.support();
+        if let Resolution::Graded(graded) = std::mem::take(&mut self.resolution) {
+            self.update_graded(&graded, (domain, kernel, spacing), n);
+            self.resolution = Resolution::Graded(graded);
+            return true;
+        }
         if self.skin == 0.0 || !self.ghosts.can_refresh() {
             // No skin (or ghosts a search must place anew, the fixed lattice's): the cell
             // search every step, rows in its cell order.
@@ -159,6 +183,49 @@ impl Neighbourhood {
             .prepare_continuation((&self.list, pairs), n, support);
         self.valid = true;
         true
+    }
+
+    /// [`Self::update`] under graded resolution: the search with the bulk's support, each
+    /// row then cut to its own (3h_i), and the kernel sums with each row's kernel and each
+    /// point's volume (a mirror's its parent's, times its wall's ratio).
+    fn update_graded(
+        &mut self,
+        graded: &Graded,
+        (domain, kernel, spacing): (&Domain, &QuinticSpline, f64),
+        n: usize,
+    ) {
+        let support = kernel.support();
+        self.local.clear();
+        self.local
+            .extend(self.points[..n].iter().map(|p| graded.at(p, domain)));
+        self.cell_search(domain, n, support, false);
+        self.row_spacing.clear();
+        self.row_spacing
+            .extend(self.local.iter().map(|l| l.spacing));
+        self.row_support.clear();
+        self.row_support.extend(
+            self.row_spacing
+                .iter()
+                .map(|&s| QuinticSpline::for_spacing(s).support()),
+        );
+        self.list.retain_within(&self.row_support);
+        let dv = spacing * spacing;
+        self.ghosts.point_volumes(n, &mut self.volumes);
+        for (v, l) in self.volumes.iter_mut().zip(&self.local) {
+            *v = l.volume / dv;
+        }
+        for (g, &parent) in self.ghosts.parent.iter().enumerate() {
+            self.volumes[n + g] *= self.local[parent as usize].volume / dv;
+        }
+        self.sums
+            .update_graded(&self.list, (kernel, &self.row_spacing), dv, &self.volumes);
+        let pairs = PairKernel {
+            value: &self.sums.value,
+            factor: &self.sums.factor,
+        };
+        self.ghosts
+            .prepare_continuation((&self.list, pairs), n, support);
+        self.valid = true;
     }
 
     /// Mirrors of the particles within `reach` of a wall and the cell search for the pairs

@@ -80,6 +80,28 @@ impl NeighbourList {
         self.index.len()
     }
 
+    /// Keeps in row i only the pairs closer than `radius[i]` (a per-row support; the rows
+    /// were searched with the largest), in their order.
+    pub fn retain_within(&mut self, radius: &[f64]) {
+        let mut kept = 0;
+        let mut start = 0;
+        for (i, &r) in radius.iter().enumerate() {
+            let end = self.offsets[i + 1];
+            let r2 = r * r;
+            for k in start..end {
+                if self.rij[k].norm_squared() < r2 {
+                    self.index[kept] = self.index[k];
+                    self.rij[kept] = self.rij[k];
+                    kept += 1;
+                }
+            }
+            start = end;
+            self.offsets[i + 1] = kept;
+        }
+        self.index.truncate(kept);
+        self.rij.truncate(kept);
+    }
+
     /// CSR offsets from the rows' `counts` (prefix sum), with `index` and (with
     /// `separations`) `rij` sized to match; without, `rij` is left empty.
     fn set_offsets(&mut self, counts: &[usize], separations: bool) {

@@ -95,6 +95,8 @@ pub struct KernelSums {
     pub ppe_laplacian: PpeLaplacian,
     /// With [`PpeLaplacian::LinearExact`]: the PPE's weights of pair k (empty otherwise).
     pub ppe_weights: Vec<f64>,
+    /// Under graded resolution, each row's spacing s_i (empty: δr = √δV for every row).
+    pub rows: Vec<f64>,
 }
 
 /// Above this bound on the condition number of the 5 × 5 moment matrix (the product of the
@@ -115,6 +117,13 @@ impl KernelSums {
             + crate::engine::vec_bytes(&self.correction)
             + crate::engine::vec_bytes(&self.laplacian)
             + crate::engine::vec_bytes(&self.ppe_weights)
+            + crate::engine::vec_bytes(&self.rows)
+    }
+
+    /// Row i's spacing relative to δr, squared: its smoothing length's h_i²/h².
+    #[inline]
+    pub fn row_area_ratio(&self, i: usize) -> f64 {
+        self.rows.get(i).map_or(1.0, |s| s * s / self.dv)
     }
 
     /// The operators' variants, chosen once from the scheme.
@@ -139,7 +148,21 @@ impl KernelSums {
         dv: f64,
         volumes: &[f64],
     ) {
+        self.update_graded(list, (kernel, &[]), dv, volumes);
+    }
+
+    /// As [`Self::update_with_volumes`], row i with the kernel of spacing `rows[i]` (graded
+    /// resolution, [`crate::engine::resolution`]; empty: `kernel` for every row).
+    pub fn update_graded(
+        &mut self,
+        list: &NeighbourList,
+        (kernel, rows): (&QuinticSpline, &[f64]),
+        dv: f64,
+        volumes: &[f64],
+    ) {
         self.dv = dv;
+        self.rows.clear();
+        self.rows.extend_from_slice(rows);
         let n = list.rows();
         self.factor.resize(list.pairs(), 0.0);
         self.value.resize(list.pairs(), 0.0);
@@ -161,7 +184,6 @@ impl KernelSums {
         let grad_hat = RowWriter::new(&mut self.grad_hat);
         let laplacian = RowWriter::new(&mut self.laplacian);
         let ppe_weights = RowWriter::new(&mut self.ppe_weights);
-        let h = kernel.h();
         // One pass per particle: its pairs' factors, L_i from them, then its ∇Ŵ_ij, while
         // the row is in cache.
         self.correction
@@ -176,6 +198,11 @@ impl KernelSums {
                         grad_hat.row(offsets, i),
                     )
                 };
+                let kernel = match rows.get(i) {
+                    Some(&spacing) => QuinticSpline::for_spacing(spacing),
+                    None => *kernel,
+                };
+                let h = kernel.h();
                 let (rij, index) = (&list.rij[list.range(i)], &list.index[list.range(i)]);
                 let pairs = factor.iter_mut().zip(value.iter_mut()).zip(rij).zip(index);
                 for (((f, w), r), &j) in pairs {

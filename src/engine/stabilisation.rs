@@ -67,8 +67,13 @@ impl PressureStabilisation {
 
     /// τ_δt = τ δt/(τ + δt).
     pub fn time_at(&self, dt: f64) -> f64 {
-        if self.time.is_finite() {
-            self.time * dt / (self.time + dt)
+        Self::combined(self.time, dt)
+    }
+
+    /// τ δt/(τ + δt) of a time τ (δt for τ = ∞).
+    fn combined(time: f64, dt: f64) -> f64 {
+        if time.is_finite() {
+            time * dt / (time + dt)
         } else {
             dt
         }
@@ -91,8 +96,15 @@ impl PressureStabilisation {
         self.gradient.resize(n, Vec2::zeros());
         fluid_gradient((list, sums), pressure, &mut self.gradient);
         let g = &self.gradient;
-        let scale = self.time_at(dt) / density;
+        let uniform = self.time_at(dt) / density;
+        let time = self.time;
         divergence.par_iter_mut().enumerate().for_each(|(i, d)| {
+            // Under graded resolution τ_i = ρh_i²/η0, each row's own smoothing length.
+            let scale = if sums.rows.is_empty() {
+                uniform
+            } else {
+                Self::combined(time * sums.row_area_ratio(i), dt) / density
+            };
             let mut defect = 0.0;
             for k in list.range(i) {
                 let j = list.index[k] as usize;

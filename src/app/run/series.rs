@@ -4,7 +4,6 @@ use super::summary::PpeWindow;
 use crate::analysis::diagnostics;
 use crate::analysis::reference::Reference;
 use crate::app::io::SeriesRow;
-use crate::engine::drive::bulk_velocity;
 use crate::engine::step::Simulation;
 use crate::setup::scenes::Scene;
 
@@ -47,7 +46,7 @@ pub fn row(
         max_speed: stats.max_speed,
         max_trace_a: stats.max_trace,
         min_det_a: stats.min_det,
-        u_mean: bulk_velocity(&s.velocity, sim.particle_volume(), &sim.domain),
+        u_mean: sim.bulk_velocity(),
         drag_k: f64::NAN,
         k_pressure: f64::NAN,
         k_solvent: f64::NAN,

@@ -31,7 +31,7 @@ use crate::engine::free_surface::{
     SurfaceTensionForm, Wetting,
 };
 use crate::engine::gravity::Gravity;
-use crate::engine::kernel::QuinticSpline;
+use crate::engine::kernel::{QuinticSpline, H_OVER_DR};
 use crate::engine::kinematics::Kinematics;
 use crate::engine::math::{Sym2, Vec2};
 use crate::engine::neighbourhood::{default_skin, Neighbourhood};
@@ -41,6 +41,7 @@ use crate::engine::ordering::Reordering;
 use crate::engine::predictor::{predict, PredictorTerms};
 use crate::engine::pressure::PressureStage;
 use crate::engine::projection::{Projection, ProjectionStage};
+use crate::engine::resolution::Resolution;
 use crate::engine::rheology::hourglass::HourglassControl;
 use crate::engine::rheology::{ConformationStage, Fluid};
 use crate::engine::scheme::{Method, Scheme};
@@ -85,6 +86,8 @@ pub struct Setup {
     /// The static contact angle (radians, through the liquid) where a free surface with
     /// surface tension meets a flat wall; None: no condition there.
     pub contact_angle: Option<f64>,
+    /// The particles' layout: uniform, or graded along walls (fixed particles only).
+    pub resolution: Resolution,
 }
 
 /// The stage objects of the step, built once from the scheme.
@@ -137,13 +140,19 @@ pub struct Simulation {
     stages: Stages,
 }
 
-/// The neighbourhood of `walls` under `scheme`'s wall and operator settings.
-fn neighbourhood(walls: Vec<Wall>, scheme: &Scheme, spacing: f64) -> Neighbourhood {
+/// The neighbourhood of `walls` under `scheme`'s wall and operator settings, for particles
+/// `spacing` apart or graded by `resolution`.
+fn neighbourhood(
+    walls: Vec<Wall>,
+    scheme: &Scheme,
+    (spacing, resolution): (f64, Resolution),
+) -> Neighbourhood {
     let mut ghosts = Ghosts::new(walls);
     ghosts.set_model(scheme.wall_model, spacing);
     ghosts.set_velocity_extension(scheme.wall_velocity);
     let mut hood = Neighbourhood::new(ghosts);
     hood.sums.configure(scheme);
+    hood.set_resolution(resolution);
     hood
 }
 
@@ -185,7 +194,7 @@ impl Simulation {
             scheme.wall_conformation,
             &mut walls,
         );
-        let hood = neighbourhood(walls, &scheme, setup.spacing);
+        let hood = neighbourhood(walls, &scheme, (setup.spacing, setup.resolution));
         // Free surfaces take the positive divergence form of (20) with L = I.
         let form = if setup.free_surface {
             DivergenceForm::Positive
@@ -310,19 +319,8 @@ impl Simulation {
 
     /// The stable step and the elastic wave speed it was limited by.
     fn step_limit(&self, max_polymer_stress: f64) -> (f64, f64) {
-        let s = &self.state;
-        let max_speed = s
-            .velocity
-            .par_iter()
-            .map(|u| u.norm())
-            .reduce(|| 0.0, f64::max);
         let fluid = &self.fluid;
-        let inputs = DtInputs {
-            h: self.kernel.h(),
-            max_speed,
-            velocity_scale: self.scales.velocity,
-            max_polymer_stress,
-        };
+        let inputs = self.dt_inputs(max_polymer_stress);
         let limit = self
             .scheme
             .viscosity
@@ -332,12 +330,61 @@ impl Simulation {
             .stages
             .weak
             .as_ref()
-            .map_or(f64::INFINITY, |w| w.dt_limit(inputs.h, max_speed));
+            .map_or(f64::INFINITY, |w| w.dt_limit(inputs.h, inputs.max_speed));
         let dt = match self.scheme.time_step {
             Some(fixed) => fixed,
             None => (self.scheme.dt_factor * limit).min(acoustic),
         };
         (dt, wave_speed)
+    }
+
+    /// What the step's limits read. Under graded resolution the advective limit is each
+    /// particle's own, min h_i/|u_i| (and h/U for the bulk), and the elastic limit takes the
+    /// finest h: h is the finest, the speeds scaled to it.
+    fn dt_inputs(&self, max_polymer_stress: f64) -> DtInputs {
+        let velocity = &self.state.velocity;
+        let local = self.stages.hood.local();
+        let h = self.kernel.h();
+        if local.len() != velocity.len() {
+            let max_speed = velocity
+                .par_iter()
+                .map(|u| u.norm())
+                .reduce(|| 0.0, f64::max);
+            return DtInputs {
+                h,
+                max_speed,
+                velocity_scale: self.scales.velocity,
+                max_polymer_stress,
+            };
+        }
+        let finest = local
+            .iter()
+            .map(|l| l.spacing)
+            .fold(f64::INFINITY, f64::min);
+        let rate = velocity
+            .par_iter()
+            .zip(local.par_iter())
+            .map(|(u, l)| u.norm() / l.spacing)
+            .reduce(|| 0.0, f64::max);
+        DtInputs {
+            h: H_OVER_DR * finest,
+            max_speed: rate * finest,
+            velocity_scale: self.scales.velocity * H_OVER_DR * finest / h,
+            max_polymer_stress,
+        }
+    }
+
+    /// The bulk velocity ⟨u⟩ = Q/H ([`bulk_velocity`]), each particle's own volume under
+    /// graded resolution.
+    pub fn bulk_velocity(&self) -> f64 {
+        let (velocity, local) = (&self.state.velocity, self.stages.hood.local());
+        if local.len() != velocity.len() {
+            return bulk_velocity(velocity, self.particle_volume(), &self.domain);
+        }
+        let extent = self.domain.max - self.domain.min;
+        let sum =
+            crate::engine::reduce::blocked_sum(velocity.len(), |i| velocity[i].x * local[i].volume);
+        sum / (extent.x * extent.y)
     }
 
     /// Sorts the fluid particles along a Morton curve of their cells (see
@@ -420,10 +467,10 @@ impl Simulation {
             .map_or(0.0, |w| w.density_deviation());
         self.final_positions(dt);
         self.move_bodies(dt);
-        let dv = self.particle_volume();
-        let (s, domain) = (&mut self.state, &self.domain);
-        let bulk = || bulk_velocity(&s.velocity, dv, domain);
-        self.drive.update(&mut s.body_force, bulk, dt);
+        if self.drive != Drive::Constant {
+            let bulk = self.bulk_velocity();
+            self.drive.update(&mut self.state.body_force, || bulk, dt);
+        }
         self.state.time += dt;
         self.state.steps += 1;
         self.state.previous_dt = dt;
@@ -435,7 +482,7 @@ impl Simulation {
         Ok(StepReport {
             dt,
             ppe,
-            elastic_courant: dt * wave_speed / self.kernel.h(),
+            elastic_courant: dt * wave_speed / self.finest_h(),
             viscous_iterations,
             density_deviation,
             sound_speed: self.stages.weak.as_ref().map_or(0.0, |w| w.sound_speed()),
@@ -860,8 +907,21 @@ impl Simulation {
 
     /// The fluid volume Σ m_i/ρ_i: N δV for the projection (incompressible particles), and
     /// with each particle's density from its pressure for the weakly compressible scheme.
+    /// The smallest smoothing length: h, or the finest layer's under graded resolution.
+    pub fn finest_h(&self) -> f64 {
+        let local = self.stages.hood.local();
+        local
+            .iter()
+            .map(|l| H_OVER_DR * l.spacing)
+            .fold(self.kernel.h(), f64::min)
+    }
+
     pub fn fluid_volume(&self) -> f64 {
         let dv = self.particle_volume();
+        let local = self.stages.hood.local();
+        if !local.is_empty() {
+            return crate::engine::reduce::blocked_sum(local.len(), |i| local[i].volume);
+        }
         match self.stages.weak.as_ref() {
             Some(w) => w.volume(&self.state.pressure) * dv,
             None => self.particles() as f64 * dv,

@@ -10,6 +10,7 @@ use crate::engine::drive::Drive;
 use crate::engine::lattice::lattice;
 use crate::engine::math::Vec2;
 use crate::engine::neighbours::Domain;
+use crate::engine::resolution::Resolution;
 use crate::engine::rheology::Fluid;
 use crate::engine::scheme::Scheme;
 use crate::engine::step::{Scales, Setup};
@@ -161,6 +162,7 @@ impl Scene for Cavity {
             contact: None,
             gravity: Vec2::zeros(),
             contact_angle: None,
+            resolution: Resolution::Uniform,
         }
     }
 

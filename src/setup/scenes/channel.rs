@@ -3,6 +3,7 @@
 //! flow); with a cylinder, the periodic cylinder array.
 
 use super::discs::{check_apart, ContactSpec, DiscPlan, DiscSpec};
+use super::graded::GradedPlan;
 use super::{
     check_box, check_memory, check_periodic_length, circle_in_box, finite_force, support_in_dr,
     Scene, SceneBox,
@@ -16,6 +17,7 @@ use crate::engine::drive::Drive;
 use crate::engine::lattice::lattice;
 use crate::engine::math::Vec2;
 use crate::engine::neighbours::Domain;
+use crate::engine::resolution::Resolution;
 use crate::engine::rheology::Fluid;
 use crate::engine::scheme::Scheme;
 use crate::engine::step::{Scales, Setup};
@@ -62,6 +64,11 @@ pub struct ChannelSpec {
     /// (`engine::bodies` has no wall to share the load with).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub walls: Option<bool>,
+    /// Graded resolution (fixed particles): the spacing at the plates and the cylinder is
+    /// δr/`refine_walls`, growing by a quarter a layer to δr (1, the default: uniform; see
+    /// `engine::resolution`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub refine_walls: Option<f64>,
 }
 
 /// `[scene.cylinder]`.
@@ -100,6 +107,8 @@ pub struct Channel {
     pub gravity: Vec2,
     /// Plates at y = 0 and H; false: periodic in y.
     pub walls: bool,
+    /// The walls' spacing is δr/`refine` (1: uniform).
+    pub refine: f64,
 }
 
 impl ChannelSpec {
@@ -183,6 +192,7 @@ impl ChannelSpec {
             .map(|c| c.validate(support, &discs))
             .transpose()?;
         let gravity = self.validate_gravity()?;
+        let refine = self.validate_refinement((walls, cylinder, rings))?;
         Ok(Channel {
             bounds: SceneBox {
                 length: self.length,
@@ -200,7 +210,60 @@ impl ChannelSpec {
             contact,
             gravity,
             walls,
+            refine,
         })
+    }
+
+    /// `scene.refine_walls`: at least 1, no discs (they move), and the plates' and the
+    /// cylinder's layers clear of each other by a row of δr.
+    fn validate_refinement(
+        &self,
+        (walls, cylinder, rings): (bool, Option<Circle>, usize),
+    ) -> Result<f64, FieldError> {
+        let Some(refine) = self.refine_walls else {
+            return Ok(1.0);
+        };
+        if !refine.is_finite() || !(1.0..=64.0).contains(&refine) {
+            return Err(field_err(
+                "scene.refine_walls",
+                format!("must be between 1 and 64 (got {refine})"),
+            ));
+        }
+        if !self.discs.is_empty() {
+            return Err(field_err(
+                "scene.refine_walls",
+                "graded resolution needs fixed particles and walls: not with [[scene.discs]]",
+            ));
+        }
+        let spacing = self.height / self.resolution as f64;
+        let plan = GradedPlan {
+            domain: Domain {
+                min: Vec2::zeros(),
+                max: Vec2::new(self.length, self.height),
+                periodic: [true, !walls],
+            },
+            spacing,
+            refinement: refine,
+            plates: walls,
+            cylinder,
+            rings,
+        };
+        let room = match (walls, cylinder) {
+            (true, Some(c)) => (c.centre.y - c.radius).min(self.height - c.centre.y - c.radius),
+            (true, None) => self.height - plan.plate_thickness(),
+            (false, _) => f64::INFINITY,
+        };
+        let needed =
+            plan.plate_thickness() + cylinder.map_or(0.0, |_| plan.cylinder_thickness()) + spacing;
+        if needed > room {
+            return Err(field_err(
+                "scene.refine_walls",
+                format!(
+                    "the graded layers ({needed:.4} with a row of δr between) do not fit in the gap {room:.4}: fewer scene.cylinder.rings or a finer scene.resolution"
+                ),
+            ));
+        }
+        Ok(refine)
     }
 
     /// `scene.walls`: without plates the box is a periodic cell of a square array, which
@@ -306,6 +369,26 @@ impl Channel {
     /// K = 132.20, 135.56, 134.24 with the centre moved by 0, ¼ and ½δr along the axis;
     /// three rings give 132.34 and 132.38.
     fn positions(&self) -> Vec<Vec2> {
+        match self.graded_plan() {
+            Some(plan) => plan.build().0,
+            None => self.uniform_positions(),
+        }
+    }
+
+    /// The graded layout's plan (None: uniform).
+    fn graded_plan(&self) -> Option<GradedPlan> {
+        (self.refine > 1.0).then(|| GradedPlan {
+            domain: self.domain(),
+            spacing: self.spacing(),
+            refinement: self.refine,
+            plates: self.walls,
+            cylinder: self.cylinder,
+            rings: self.rings,
+        })
+    }
+
+    /// [`Self::positions`] at one spacing.
+    fn uniform_positions(&self) -> Vec<Vec2> {
         let dr = self.spacing();
         let domain = self.domain();
         let clear_of_rings = |p: &Vec2| {
@@ -387,8 +470,12 @@ impl Scene for Channel {
         self.body_force
     }
 
+    fn graded(&self) -> bool {
+        self.refine > 1.0
+    }
+
     fn particles(&self) -> usize {
-        if self.cylinder.is_none() && self.discs.is_empty() {
+        if self.cylinder.is_none() && self.discs.is_empty() && self.refine <= 1.0 {
             self.columns * self.bounds.resolution
         } else {
             self.positions().len()
@@ -396,7 +483,13 @@ impl Scene for Channel {
     }
 
     fn build(&self, fluid: &Fluid, scheme: &Scheme, scales: Scales) -> Setup {
-        let positions = self.positions();
+        let (positions, resolution) = match self.graded_plan() {
+            Some(plan) => {
+                let (points, graded) = plan.build();
+                (points, Resolution::Graded(graded))
+            }
+            None => (self.positions(), Resolution::Uniform),
+        };
         let wall = |shape| Wall::no_slip(shape, scheme.wall_conformation);
         let sliding =
             |shape, u: f64| Wall::sliding(shape, scheme.wall_conformation, Vec2::new(u, 0.0));
@@ -437,6 +530,7 @@ impl Scene for Channel {
             contact: self.contact,
             gravity: self.gravity,
             contact_angle: None,
+            resolution,
         }
     }
 

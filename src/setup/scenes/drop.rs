@@ -15,6 +15,7 @@ use crate::analysis::reference::Reference;
 use crate::engine::drive::Drive;
 use crate::engine::lattice::disc;
 use crate::engine::math::Vec2;
+use crate::engine::resolution::Resolution;
 use crate::engine::rheology::Fluid;
 use crate::engine::scheme::Scheme;
 use crate::engine::step::{Scales, Setup};
@@ -229,6 +230,7 @@ impl Scene for Drop {
             contact: None,
             gravity: Vec2::zeros(),
             contact_angle: self.contact_angle,
+            resolution: Resolution::Uniform,
         }
     }
 

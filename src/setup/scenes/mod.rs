@@ -10,6 +10,7 @@ pub mod cavity;
 pub mod channel;
 pub mod discs;
 pub mod drop;
+pub mod graded;
 pub mod jet;
 pub mod pool;
 pub mod taylor_green;
@@ -177,6 +178,10 @@ pub trait Scene: fmt::Debug + Send + Sync {
     /// A solid cylinder in the flow, whose drag and wake the run reports.
     fn cylinder(&self) -> Option<Circle> {
         None
+    }
+    /// Whether its particles' resolution is graded along walls (`engine::resolution`).
+    fn graded(&self) -> bool {
+        false
     }
     /// How many rigid discs the scene holds (`[[scene.discs]]`).
     fn discs(&self) -> usize {

@@ -18,6 +18,7 @@ use crate::analysis::reference::Reference;
 use crate::engine::boundary::{Plane, Plate, Shape, Wall};
 use crate::engine::drive::Drive;
 use crate::engine::math::Vec2;
+use crate::engine::resolution::Resolution;
 use crate::engine::rheology::Fluid;
 use crate::engine::scheme::Scheme;
 use crate::engine::step::{Scales, Setup};
@@ -316,6 +317,7 @@ impl Scene for Pool {
             contact: None,
             gravity: Vec2::zeros(),
             contact_angle: Some(self.contact_angle),
+            resolution: Resolution::Uniform,
         }
     }
 

@@ -8,6 +8,7 @@ use crate::engine::drive::Drive;
 use crate::engine::lattice::lattice;
 use crate::engine::math::Vec2;
 use crate::engine::neighbours::Domain;
+use crate::engine::resolution::Resolution;
 use crate::engine::rheology::Fluid;
 use crate::engine::scheme::Scheme;
 use crate::engine::step::{Scales, Setup};
@@ -123,6 +124,7 @@ impl Scene for TaylorGreen {
             contact: None,
             gravity: Vec2::zeros(),
             contact_angle: None,
+            resolution: Resolution::Uniform,
         }
     }
 
