@@ -32,6 +32,29 @@ pub struct State {
     pub body_force: Vec2,
 }
 
+impl State {
+    /// The state at t = 0: the particles at `positions` with `velocity`, no pressure, the
+    /// conformation given (empty for a Newtonian fluid) and the initial body force.
+    pub fn initial(
+        (position, velocity): (Vec<Vec2>, Vec<Vec2>),
+        conformation: Vec<Sym2>,
+        body_force: Vec2,
+    ) -> Self {
+        let n = position.len();
+        Self {
+            time: 0.0,
+            steps: 0,
+            position,
+            velocity,
+            pressure: vec![0.0; n],
+            conformation,
+            previous_dt: 0.0,
+            shift_velocity: vec![Vec2::zeros(); n],
+            body_force,
+        }
+    }
+}
+
 /// Why a run stopped early.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Breakdown {

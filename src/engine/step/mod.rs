@@ -260,17 +260,11 @@ impl Simulation {
             drive: setup.drive,
             scales: setup.scales,
             inflow: setup.inflow,
-            state: State {
-                time: 0.0,
-                steps: 0,
-                position: setup.positions,
-                velocity: setup.velocity,
-                pressure: vec![0.0; n],
+            state: State::initial(
+                (setup.positions, setup.velocity),
                 conformation,
-                previous_dt: 0.0,
-                shift_velocity: vec![Vec2::zeros(); n],
-                body_force: setup.body_force,
-            },
+                setup.body_force,
+            ),
             timers: StageSeconds::default(),
             stages,
         };
