@@ -109,6 +109,18 @@ $R study cylinder cases/confined-cylinder.toml --wi 0,0.3,0.5,0.7 --set scene.re
   --reference cases/confined-cylinder-drag.csv --out plots/confined-cylinder/r15
 $R study cylinder cases/confined-cylinder.toml --wi 0,0.5,0.7 --set scene.resolution=80 \
   --reference cases/confined-cylinder-drag.csv --out plots/confined-cylinder/r20
+# The same at R/dr = 10 with the step halved twice (K may not move), and with graded walls
+# (wall spacing R/40 and R/80; graded rows need the second-order gradient): about 1 h, then
+# 4 h and 6 h of one core.
+for f in 0.1 0.05; do
+  $R study cylinder cases/confined-cylinder.toml --wi 0.1,0.5,0.7 --set scheme.dt_factor=$f \
+    --reference cases/confined-cylinder-drag.csv --out plots/confined-cylinder/dt$f
+done
+G="--set scheme.gradient_order=second --reference cases/confined-cylinder-drag.csv"
+$R study cylinder cases/confined-cylinder.toml --wi 0,0.5,0.7 --set scene.refine_walls=4 \
+  --set scene.cylinder.rings=1 $G --out plots/confined-cylinder/graded40
+$R study cylinder cases/confined-cylinder.toml --wi 0.5,0.7 --set scene.refine_walls=8 \
+  --set scene.cylinder.rings=0 $G --out plots/confined-cylinder/graded80
 fi
 
 if [ "$part" = all ] || [ "$part" = surfaces ]; then
