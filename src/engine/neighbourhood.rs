@@ -175,13 +175,7 @@ impl Neighbourhood {
         }
         self.sums
             .update_with_volumes(&self.list, kernel, spacing * spacing, &self.volumes);
-        let pairs = PairKernel {
-            value: &self.sums.value,
-            factor: &self.sums.factor,
-        };
-        self.ghosts
-            .prepare_continuation((&self.list, pairs), n, support);
-        self.valid = true;
+        self.prepare_continuation(n, support);
         true
     }
 
@@ -219,6 +213,11 @@ impl Neighbourhood {
         }
         self.sums
             .update_graded(&self.list, (kernel, &self.row_spacing), dv, &self.volumes);
+        self.prepare_continuation(n, support);
+    }
+
+    /// The walls' continuations from the new lists and kernel sums; the lists are then valid.
+    fn prepare_continuation(&mut self, n: usize, support: f64) {
         let pairs = PairKernel {
             value: &self.sums.value,
             factor: &self.sums.factor,
