@@ -12,9 +12,12 @@ use rheosph::app::run::Outcome;
 /// must also be at rest (largest speed below 1 % of the capillary velocity σ/η = 10).
 #[test]
 fn a_sessile_drop_rests_at_its_contact_angle() {
-    for theta in [40.0, 120.0] {
-        rests_at_its_angle(theta, &["run.end_time=20"]);
-    }
+    // Independent runs, side by side (each has serial stages).
+    std::thread::scope(|s| {
+        for theta in [40.0, 120.0] {
+            s.spawn(move || rests_at_its_angle(theta, &["run.end_time=20"]));
+        }
+    });
 }
 
 /// Runs the shipped sessile drop at `theta` with `overrides` and checks that it finishes at
@@ -49,9 +52,11 @@ fn a_coarse_wetting_drop_held_off_its_plate_keeps_its_foot() {
         "scene.resolution=20",
         "scheme.contact_line_rows=\"held\"",
     ];
-    for theta in [40.0, 60.0] {
-        rests_at_its_angle(theta, &coarse);
-    }
+    std::thread::scope(|s| {
+        for theta in [40.0, 60.0] {
+            s.spawn(move || rests_at_its_angle(theta, &coarse));
+        }
+    });
 }
 
 /// The seed's wetting by attraction (weakly compressible, cohesion, the walls pulling with
