@@ -36,7 +36,8 @@ impl State {
     /// The state at t = 0: the particles at `positions` with `velocity`, no pressure, the
     /// conformation given (empty for a Newtonian fluid) and the initial body force.
     pub fn initial(
-        (position, velocity): (Vec<Vec2>, Vec<Vec2>),
+        position: Vec<Vec2>,
+        velocity: Vec<Vec2>,
         conformation: Vec<Sym2>,
         body_force: Vec2,
     ) -> Self {

@@ -261,7 +261,8 @@ impl Simulation {
             scales: setup.scales,
             inflow: setup.inflow,
             state: State::initial(
-                (setup.positions, setup.velocity),
+                setup.positions,
+                setup.velocity,
                 conformation,
                 setup.body_force,
             ),
