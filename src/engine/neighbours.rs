@@ -379,58 +379,83 @@ impl NeighbourSearch {
         let grid = Grid::new(domain, points, support);
         self.bin(&grid, points);
         let support2 = support * support;
-
-        // Pass 1: count.
+        // One pass: rows in blocks, each searched once into its own scratch (kept between
+        // steps), then copied into place once the offsets are known (a count pass before a
+        // fill pass measured every distance twice).
+        let blocks = n_rows.div_ceil(FILTER_BLOCK);
+        let mut scratch = std::mem::take(&mut self.filtered);
+        scratch.resize_with(blocks, Default::default);
         let mut counts = std::mem::take(&mut self.counts);
         counts.resize(n_rows, 0);
         let this = &*self;
-        let visit = |i: usize, f: &mut dyn FnMut(u32, Vec2)| {
-            let pi = points[i];
-            let c = this.point_cell[i] as usize;
-            let (cx, cy) = (c / grid.n[1], c % grid.n[1]);
-            let (xs, nx) = grid.adjacent(cx, 0);
-            let (ys, ny) = grid.adjacent(cy, 1);
-            for &x in &xs[..nx] {
-                for &y in &ys[..ny] {
-                    let cell = x * grid.n[1] + y;
-                    for &j in &this.cell_points[this.cell_start[cell]..this.cell_start[cell + 1]] {
-                        if j as usize == i {
-                            continue;
+        scratch
+            .par_iter_mut()
+            .zip(counts.par_chunks_mut(FILTER_BLOCK))
+            .enumerate()
+            .for_each(|(b, ((idx, rij), counts))| {
+                idx.clear();
+                rij.clear();
+                for (i, c) in (b * FILTER_BLOCK..).zip(counts.iter_mut()) {
+                    let before = idx.len();
+                    let within = (support2, min_distance2);
+                    this.visit(&grid, (domain, points), i, within, |j, d| {
+                        idx.push(j);
+                        if separations {
+                            rij.push(d);
                         }
-                        let d = domain.min_image(pi - points[j as usize]);
-                        let r2 = d.norm_squared();
-                        if r2 < support2 && r2 > min_distance2 {
-                            f(j, d);
-                        }
+                    });
+                    *c = idx.len() - before;
+                }
+            });
+        out.set_offsets(&counts, separations);
+        self.block_start.clear();
+        self.block_start
+            .extend((0..=blocks).map(|b| out.offsets[(b * FILTER_BLOCK).min(n_rows)]));
+        let block_start = &self.block_start;
+        let index = RowWriter::new(&mut out.index);
+        let rij = separations.then(|| RowWriter::new(&mut out.rij));
+        scratch.par_iter().enumerate().for_each(|(b, (idx, d))| {
+            // SAFETY: the blocks' ranges of the CSR arrays are disjoint.
+            unsafe { index.row(block_start, b) }.copy_from_slice(idx);
+            if let Some(rij) = rij.as_ref() {
+                unsafe { rij.row(block_start, b) }.copy_from_slice(d);
+            }
+        });
+        self.filtered = scratch;
+        self.counts = counts;
+    }
+
+    /// Calls `f(j, r_ij)` for every point j ≠ i of the cells adjacent to i's with
+    /// `min_distance2 < r_ij² < support2`, in cell order.
+    #[inline]
+    fn visit(
+        &self,
+        grid: &Grid,
+        (domain, points): (&Domain, &[Vec2]),
+        i: usize,
+        (support2, min_distance2): (f64, f64),
+        mut f: impl FnMut(u32, Vec2),
+    ) {
+        let pi = points[i];
+        let c = self.point_cell[i] as usize;
+        let (cx, cy) = (c / grid.n[1], c % grid.n[1]);
+        let (xs, nx) = grid.adjacent(cx, 0);
+        let (ys, ny) = grid.adjacent(cy, 1);
+        for &x in &xs[..nx] {
+            for &y in &ys[..ny] {
+                let cell = x * grid.n[1] + y;
+                for &j in &self.cell_points[self.cell_start[cell]..self.cell_start[cell + 1]] {
+                    if j as usize == i {
+                        continue;
+                    }
+                    let d = domain.min_image(pi - points[j as usize]);
+                    let r2 = d.norm_squared();
+                    if r2 < support2 && r2 > min_distance2 {
+                        f(j, d);
                     }
                 }
             }
-        };
-        counts.par_iter_mut().enumerate().for_each(|(i, c)| {
-            let mut k = 0;
-            visit(i, &mut |_, _| k += 1);
-            *c = k;
-        });
-        out.set_offsets(&counts, separations);
-
-        // Pass 2: fill, each row into its own disjoint range.
-        let offsets = &out.offsets;
-        let index = RowWriter::new(&mut out.index);
-        let rij = separations.then(|| RowWriter::new(&mut out.rij));
-        (0..n_rows).into_par_iter().for_each(|i| {
-            // SAFETY: CSR row ranges are disjoint and each row is visited by one task.
-            let idx = unsafe { index.row(offsets, i) };
-            let mut rij = rij.as_ref().map(|r| unsafe { r.row(offsets, i) });
-            let mut k = 0;
-            visit(i, &mut |j, d| {
-                idx[k] = j;
-                if let Some(rij) = rij.as_mut() {
-                    rij[k] = d;
-                }
-                k += 1;
-            });
-        });
-        self.counts = counts;
+        }
     }
 
     /// Counting sort of the points into cells (stable: points stay in index order).
