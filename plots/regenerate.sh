@@ -119,7 +119,7 @@ done
 G="--set scheme.gradient_order=second --reference cases/confined-cylinder-drag.csv"
 $R study cylinder cases/confined-cylinder.toml --wi 0,0.1,0.3,0.5,0.7 --set scene.refine_walls=4 \
   --set scene.cylinder.rings=1 $G --out plots/confined-cylinder/graded40
-$R study cylinder cases/confined-cylinder.toml --wi 0.5,0.7 --set scene.refine_walls=8 \
+$R study cylinder cases/confined-cylinder.toml --wi 0.3,0.5,0.7 --set scene.refine_walls=8 \
   --set scene.cylinder.rings=0 $G --out plots/confined-cylinder/graded80
 fi
 
