@@ -125,11 +125,75 @@ pub struct NeighbourSearch {
     cell_start: Vec<usize>,
     cell_points: Vec<u32>,
     point_cell: Vec<u32>,
-    counts: Vec<usize>,
     next: Vec<usize>,
-    /// Each block's filtered pairs (indices, separations), reused step after step.
-    filtered: Vec<(Vec<u32>, Vec<Vec2>)>,
+    rows: RowBlocks,
+}
+
+/// Rows gathered in blocks of [`FILTER_BLOCK`], each block into its own scratch (reused step
+/// after step), then copied into place in the CSR arrays once the offsets are known.
+#[derive(Default)]
+struct RowBlocks {
+    counts: Vec<usize>,
+    /// Each block's pairs (indices, separations).
+    scratch: Vec<(Vec<u32>, Vec<Vec2>)>,
+    /// The CSR position where each block of rows starts (and the end).
     block_start: Vec<usize>,
+}
+
+impl RowBlocks {
+    fn heap_bytes(&self) -> usize {
+        crate::engine::vec_bytes(&self.counts)
+            + crate::engine::vec_bytes(&self.block_start)
+            + self
+                .scratch
+                .iter()
+                .map(|(i, r)| crate::engine::vec_bytes(i) + crate::engine::vec_bytes(r))
+                .sum::<usize>()
+    }
+
+    /// Fills `out` with rows `0..n_rows`, row i's pairs pushed by `row(i, indices,
+    /// separations)` (separations kept only with `separations`).
+    fn gather(
+        &mut self,
+        n_rows: usize,
+        separations: bool,
+        out: &mut NeighbourList,
+        row: impl Fn(usize, &mut Vec<u32>, &mut Vec<Vec2>) + Sync,
+    ) {
+        let blocks = n_rows.div_ceil(FILTER_BLOCK);
+        self.scratch.resize_with(blocks, Default::default);
+        self.counts.resize(n_rows, 0);
+        self.scratch
+            .par_iter_mut()
+            .zip(self.counts.par_chunks_mut(FILTER_BLOCK))
+            .enumerate()
+            .for_each(|(b, ((idx, rij), counts))| {
+                idx.clear();
+                rij.clear();
+                for (i, c) in (b * FILTER_BLOCK..).zip(counts.iter_mut()) {
+                    let before = idx.len();
+                    row(i, idx, rij);
+                    *c = idx.len() - before;
+                }
+            });
+        out.set_offsets(&self.counts[..n_rows], separations);
+        self.block_start.clear();
+        self.block_start
+            .extend((0..=blocks).map(|b| out.offsets[(b * FILTER_BLOCK).min(n_rows)]));
+        let block_start = &self.block_start;
+        let index = RowWriter::new(&mut out.index);
+        let rij = separations.then(|| RowWriter::new(&mut out.rij));
+        self.scratch[..blocks]
+            .par_iter()
+            .enumerate()
+            .for_each(|(b, (idx, d))| {
+                // SAFETY: the blocks' ranges of the CSR arrays are disjoint.
+                unsafe { index.row(block_start, b) }.copy_from_slice(idx);
+                if let Some(rij) = rij.as_ref() {
+                    unsafe { rij.row(block_start, b) }.copy_from_slice(d);
+                }
+            });
+    }
 }
 
 /// Rows per block of the filter: enough to make a block's scratch and copy cheap beside
@@ -255,14 +319,8 @@ impl NeighbourSearch {
         crate::engine::vec_bytes(&self.cell_start)
             + crate::engine::vec_bytes(&self.cell_points)
             + crate::engine::vec_bytes(&self.point_cell)
-            + crate::engine::vec_bytes(&self.counts)
             + crate::engine::vec_bytes(&self.next)
-            + crate::engine::vec_bytes(&self.block_start)
-            + self
-                .filtered
-                .iter()
-                .map(|(i, r)| crate::engine::vec_bytes(i) + crate::engine::vec_bytes(r))
-                .sum::<usize>()
+            + self.rows.heap_bytes()
     }
 
     pub fn new() -> Self {
@@ -323,46 +381,16 @@ impl NeighbourSearch {
             let r2 = d.norm_squared();
             (r2 < support2 && r2 > coincident2).then_some(d)
         };
-        // Rows in blocks, each filtered once into its own scratch (kept between steps), then
-        // copied into place once the offsets are known.
-        let blocks = n_rows.div_ceil(FILTER_BLOCK);
-        let mut scratch = std::mem::take(&mut self.filtered);
-        scratch.resize_with(blocks, Default::default);
-        let mut counts = std::mem::take(&mut self.counts);
-        counts.resize(n_rows, 0);
-        scratch
-            .par_iter_mut()
-            .zip(counts.par_chunks_mut(FILTER_BLOCK))
-            .enumerate()
-            .for_each(|(b, ((idx, rij), counts))| {
-                idx.clear();
-                rij.clear();
-                for (i, c) in (b * FILTER_BLOCK..).zip(counts.iter_mut()) {
-                    let before = idx.len();
-                    for &j in &candidates.index[candidates.range(i)] {
-                        if let Some(d) = within(i, j) {
-                            idx.push(j);
-                            rij.push(d);
-                        }
-                    }
-                    *c = idx.len() - before;
+        let mut rows = self.take_rows();
+        rows.gather(n_rows, true, out, |i, idx, rij| {
+            for &j in &candidates.index[candidates.range(i)] {
+                if let Some(d) = within(i, j) {
+                    idx.push(j);
+                    rij.push(d);
                 }
-            });
-        out.set_offsets(&counts, true);
-        // The CSR position where each block of rows starts (and the end).
-        self.block_start.clear();
-        self.block_start
-            .extend((0..=blocks).map(|b| out.offsets[(b * FILTER_BLOCK).min(n_rows)]));
-        let block_start = &self.block_start;
-        let (index, rij) = (RowWriter::new(&mut out.index), RowWriter::new(&mut out.rij));
-        scratch.par_iter().enumerate().for_each(|(b, (idx, d))| {
-            // SAFETY: the blocks' ranges of the CSR arrays are disjoint.
-            let (index, rij) = unsafe { (index.row(block_start, b), rij.row(block_start, b)) };
-            index.copy_from_slice(idx);
-            rij.copy_from_slice(d);
+            }
         });
-        self.counts = counts;
-        self.filtered = scratch;
+        self.rows = rows;
     }
 
     /// [`Self::build`] with pairs whose squared distance is at most `min_distance2` skipped,
@@ -379,50 +407,24 @@ impl NeighbourSearch {
         let grid = Grid::new(domain, points, support);
         self.bin(&grid, points);
         let support2 = support * support;
-        // One pass: rows in blocks, each searched once into its own scratch (kept between
-        // steps), then copied into place once the offsets are known (a count pass before a
-        // fill pass measured every distance twice).
-        let blocks = n_rows.div_ceil(FILTER_BLOCK);
-        let mut scratch = std::mem::take(&mut self.filtered);
-        scratch.resize_with(blocks, Default::default);
-        let mut counts = std::mem::take(&mut self.counts);
-        counts.resize(n_rows, 0);
+        // One pass into [`RowBlocks`] (a count pass before a fill pass measured every
+        // distance twice).
+        let mut rows = self.take_rows();
         let this = &*self;
-        scratch
-            .par_iter_mut()
-            .zip(counts.par_chunks_mut(FILTER_BLOCK))
-            .enumerate()
-            .for_each(|(b, ((idx, rij), counts))| {
-                idx.clear();
-                rij.clear();
-                for (i, c) in (b * FILTER_BLOCK..).zip(counts.iter_mut()) {
-                    let before = idx.len();
-                    let within = (support2, min_distance2);
-                    this.visit(&grid, (domain, points), i, within, |j, d| {
-                        idx.push(j);
-                        if separations {
-                            rij.push(d);
-                        }
-                    });
-                    *c = idx.len() - before;
+        let within = (support2, min_distance2);
+        rows.gather(n_rows, separations, out, |i, idx, rij| {
+            this.visit(&grid, (domain, points), i, within, |j, d| {
+                idx.push(j);
+                if separations {
+                    rij.push(d);
                 }
             });
-        out.set_offsets(&counts, separations);
-        self.block_start.clear();
-        self.block_start
-            .extend((0..=blocks).map(|b| out.offsets[(b * FILTER_BLOCK).min(n_rows)]));
-        let block_start = &self.block_start;
-        let index = RowWriter::new(&mut out.index);
-        let rij = separations.then(|| RowWriter::new(&mut out.rij));
-        scratch.par_iter().enumerate().for_each(|(b, (idx, d))| {
-            // SAFETY: the blocks' ranges of the CSR arrays are disjoint.
-            unsafe { index.row(block_start, b) }.copy_from_slice(idx);
-            if let Some(rij) = rij.as_ref() {
-                unsafe { rij.row(block_start, b) }.copy_from_slice(d);
-            }
         });
-        self.filtered = scratch;
-        self.counts = counts;
+        self.rows = rows;
+    }
+
+    fn take_rows(&mut self) -> RowBlocks {
+        std::mem::take(&mut self.rows)
     }
 
     /// Calls `f(j, r_ij)` for every point j ≠ i of the cells adjacent to i's with
