@@ -15,11 +15,10 @@ use crate::engine::boundary::continuation::PairKernel;
 use crate::engine::boundary::Ghosts;
 use crate::engine::kernel::QuinticSpline;
 use crate::engine::math::Vec2;
-use crate::engine::neighbours::{Domain, NeighbourList, NeighbourSearch};
+use crate::engine::neighbours::{moved_less_than, Domain, NeighbourList, NeighbourSearch};
 use crate::engine::operators::KernelSums;
 use crate::engine::ordering::Reorder;
 use crate::engine::resolution::{Graded, Local, Resolution};
-use rayon::prelude::*;
 
 /// The skin `scheme.neighbour_skin` defaults to, in units of δr, when it pays: the cell search
 /// costs 2–3 filterings of its candidates (`rheosph bench`), and 0.5δr lets the particles of
@@ -253,16 +252,7 @@ impl Neighbourhood {
         }
         self.ghosts.refresh(&mut self.points);
         let half = 0.5 * self.skin;
-        if self.points.len() != self.reference.len() || self.ghosts.drift() > half {
-            return false;
-        }
-        let moved2 = self
-            .points
-            .par_iter()
-            .zip(&self.reference)
-            .map(|(p, r)| domain.min_image(p - r).norm_squared())
-            .reduce(|| 0.0, f64::max);
-        moved2 <= half * half
+        self.ghosts.drift() <= half && moved_less_than(domain, &self.points, &self.reference, half)
     }
 
     /// The Morton order of `positions` (see [`crate::engine::ordering`]), to permute every

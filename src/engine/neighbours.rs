@@ -196,6 +196,16 @@ impl RowBlocks {
     }
 }
 
+/// Whether every point of `points` lies within `limit` of the one of the same index in
+/// `reference` (a Verlet list's test: its candidates still hold).
+pub fn moved_less_than(domain: &Domain, points: &[Vec2], reference: &[Vec2], limit: f64) -> bool {
+    points.len() == reference.len()
+        && points
+            .par_iter()
+            .zip(reference)
+            .all(|(p, r)| domain.min_image(p - r).norm_squared() <= limit * limit)
+}
+
 /// Rows per block of the filter: enough to make a block's scratch and copy cheap beside
 /// its distance tests, few enough to share the rows of a small run between the threads.
 const FILTER_BLOCK: usize = 128;
@@ -381,7 +391,7 @@ impl NeighbourSearch {
             let r2 = d.norm_squared();
             (r2 < support2 && r2 > coincident2).then_some(d)
         };
-        let mut rows = self.take_rows();
+        let mut rows = std::mem::take(&mut self.rows);
         rows.gather(n_rows, true, out, |i, idx, rij| {
             for &j in &candidates.index[candidates.range(i)] {
                 if let Some(d) = within(i, j) {
@@ -409,7 +419,7 @@ impl NeighbourSearch {
         let support2 = support * support;
         // One pass into [`RowBlocks`] (a count pass before a fill pass measured every
         // distance twice).
-        let mut rows = self.take_rows();
+        let mut rows = std::mem::take(&mut self.rows);
         let this = &*self;
         let within = (support2, min_distance2);
         rows.gather(n_rows, separations, out, |i, idx, rij| {
@@ -421,10 +431,6 @@ impl NeighbourSearch {
             });
         });
         self.rows = rows;
-    }
-
-    fn take_rows(&mut self) -> RowBlocks {
-        std::mem::take(&mut self.rows)
     }
 
     /// Calls `f(j, r_ij)` for every point j ≠ i of the cells adjacent to i's with

@@ -41,7 +41,7 @@
 use crate::engine::boundary::Shape;
 use crate::engine::kernel::QuinticSpline;
 use crate::engine::math::Vec2;
-use crate::engine::neighbours::{Domain, NeighbourList, NeighbourSearch};
+use crate::engine::neighbours::{moved_less_than, Domain, NeighbourList, NeighbourSearch};
 use rayon::prelude::*;
 
 /// Simpson intervals of the set-up quadratures (the bump spans [r_c, 2r_c]).
@@ -171,13 +171,7 @@ impl Cohesion {
     /// while no point has moved more than half the skin since they were found, whatever the
     /// points' order (the test is per index).
     fn pairs(&mut self, domain: &Domain, points: &[Vec2]) {
-        let half = 0.5 * self.skin;
-        let hold = self.reference.len() == points.len()
-            && points
-                .par_iter()
-                .zip(&self.reference)
-                .all(|(p, r)| domain.min_image(p - r).norm_squared() <= half * half);
-        if !hold {
+        if !moved_less_than(domain, points, &self.reference, 0.5 * self.skin) {
             let (n, radius) = (points.len(), self.reach + self.skin);
             let candidates = &mut self.candidates;
             self.search
