@@ -66,6 +66,10 @@ for r in 36 54 72; do
 done
 $R study cylinder cases/cylinder-array.toml --set scene.resolution=54 --wi 0.2,0.6,0.8 \
   --out plots/cylinder-array/study-54
+# P2 (R/dr = 36) from rest with <u> held at 1, Wi = 0.2 ... 0.8, run to steady state and
+# averaged over three units (about 40 min a member on one thread).
+$R study cylinder cases/cylinder-array.toml --wi 0.2,0.4,0.6,0.8 --set scene.mean_flow=1.0 \
+  --jobs 2 --reuse --out runs/p2-low-wi
 # The largest stable Wi, at R/dr = 9 and 13.5.
 $R study cylinder cases/cylinder-array.toml --set scene.resolution=36 --wi 1,2,4,8,16 \
   --out plots/cylinder-array/study-36-high-wi
