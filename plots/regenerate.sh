@@ -21,30 +21,30 @@ $R run $C --out plots/poiseuille
 # Convergence, both frames (Fig. 4), and beta = 0 with alpha_V = 0.01 (UCM).
 $R study convergence $C --resolutions 15,30,60 --frames lagrangian,eulerian $I --out plots/convergence
 $R study convergence $C --resolutions 15,30,60 --frames lagrangian,eulerian $I \
-  --set fluid.model=ucm --set fluid.beta=0 --set scheme.evss_alpha=0.01 --out plots/convergence-ucm
+  --set fluid.model=ucm --set fluid.beta=0 --set scheme.conformation.evss_alpha=0.01 --out plots/convergence-ucm
 # The weakly compressible baseline beside the projection (one thread per run, as measured).
 RAYON_NUM_THREADS=1 $R study speed-accuracy $C --set run.end_time=5 --vary scheme.method=isph,wcsph \
   --resolutions 15,30,60 --out plots/wcsph/sa-re1
 RAYON_NUM_THREADS=1 $R study speed-accuracy cases/poiseuille-re0.01.toml --set run.end_time=5 \
   --vary scheme.method=isph,wcsph --resolutions 15,30 --out plots/wcsph/sa-re0.01
 $R study stability $C --wi 1,4,16,64 --variant scheme.method=isph --variant scheme.method=wcsph \
-  --variant 'scheme.method=wcsph;scheme.density_diffusion=0.1' \
-  --variant 'scheme.method=wcsph;scheme.conformation=direct;scheme.artificial_stress=0.5' \
+  --variant 'scheme.method=wcsph;scheme.wcsph.density_diffusion=0.1' \
+  --variant 'scheme.method=wcsph;scheme.conformation.form=direct;scheme.wcsph.artificial_stress=0.5' \
   --out plots/wcsph/stability
 # Where methods fail (Section IV A 3): H/dr = 30, Re = 1, beta = 0.1.
 $R study stability $C --wi 0.1,1,4,8,16,32,64,85,128 \
-  --vary scheme.conformation=log,direct --vary scheme.frame=lagrangian,eulerian $I --out plots/stability
+  --vary scheme.conformation.form=log,direct --vary scheme.frame=lagrangian,eulerian $I --out plots/stability
 $R study stability $C --wi 0.1,1,2,4,8 --vary scheme.shifting=false $I --out plots/stability-noshift
 # The same with a 4x smaller time step (0.05 h/U): the breakdowns at Wi = 16-64 above are the
 # implicit scheme's large step, not the method.
-$R study stability $C --wi 8,16,32,64,85,128 --vary scheme.conformation=log,direct $I \
-  --set scheme.dt_factor=0.05 --out plots/stability-dt0.05
+$R study stability $C --wi 8,16,32,64,85,128 --vary scheme.conformation.form=log,direct $I \
+  --set scheme.time_step.factor=0.05 --out plots/stability-dt0.05
 # Re = 0.01 (rho = 0.01, g = 800 keeps U = 1).
-$R study stability $C --wi 1,4,16,32,40,64 --vary scheme.conformation=log,direct $I \
+$R study stability $C --wi 1,4,16,32,40,64 --vary scheme.conformation.form=log,direct $I \
   --set fluid.density=0.01 --set 'scene.body_force=[800.0,0.0]' --set run.end_time=20 --out plots/stability-re0.01
 # UCM (beta = 0, alpha_V = 0.01): the shipped case with and without its hourglass control.
 RAYON_NUM_THREADS=1 $R study stability cases/poiseuille-ucm.toml --wi 1,2,4,8,16,32 \
-  --vary scheme.hourglass_control=0,0.2 --out plots/stability-elastic-rule/ucm-hourglass
+  --vary scheme.conformation.hourglass_control=0,0.2 --out plots/stability-elastic-rule/ucm-hourglass
 # What accuracy each second buys: resolutions x viscosity treatment x frame.
 $R study speed-accuracy $C --resolutions 15,30,60 --vary scheme.viscosity=explicit,implicit \
   --vary scheme.frame=lagrangian,eulerian --set run.end_time=5 --out plots/speed-accuracy
@@ -75,7 +75,7 @@ $R study cylinder cases/cylinder-array.toml --set scene.resolution=36 --wi 1,2,4
   --out plots/cylinder-array/study-36-high-wi
 $R study cylinder cases/cylinder-array.toml --set scene.resolution=54 --wi 1,2,4,8,16 \
   --out plots/cylinder-array/study-54-high-wi
-$R study cylinder cases/cylinder-array.toml --set scene.resolution=36 --set scheme.dt_factor=0.05 \
+$R study cylinder cases/cylinder-array.toml --set scene.resolution=36 --set scheme.time_step.factor=0.05 \
   --wi 4,8,16 --out plots/cylinder-array/study-36-high-wi-dt0.05
 # The paper's P2 (R/dr = 36) at Wi = 1 ... 16 with <u> held at 1, by grid sequencing: each Wi
 # runs at R/dr = 9 to t = 40 and 18 to t = 15 first, each stage from the previous one's state
@@ -117,10 +117,10 @@ $R study cylinder cases/confined-cylinder.toml --wi 0,0.5,0.7 --set scene.resolu
 # (wall spacing R/40 and R/80; graded rows need the second-order gradient): about 1 h, then
 # 4 h and 6 h of one core.
 for f in 0.1 0.05; do
-  $R study cylinder cases/confined-cylinder.toml --wi 0.1,0.5,0.7 --set scheme.dt_factor=$f \
+  $R study cylinder cases/confined-cylinder.toml --wi 0.1,0.5,0.7 --set scheme.time_step.factor=$f \
     --reference cases/confined-cylinder-drag.csv --out plots/confined-cylinder/dt$f
 done
-G="--set scheme.gradient_order=second --reference cases/confined-cylinder-drag.csv"
+G="--set scheme.operators.gradient=second --reference cases/confined-cylinder-drag.csv"
 $R study cylinder cases/confined-cylinder.toml --wi 0,0.1,0.3,0.5,0.7 --set scene.refine_walls=4 \
   --set scene.cylinder.rings=1 $G --out plots/confined-cylinder/graded40
 $R study cylinder cases/confined-cylinder.toml --wi 0.3,0.5,0.7 --set scene.refine_walls=8 \
@@ -145,22 +145,22 @@ for b in 0.2 0.05 0.02 0.01; do
     --out $O/beta40/beta_$b || true
 done
 # Normal-stress Dirichlet pressure (35a) against p = 0, and the Newtonian drop, at W/dr = 80.
-$R run $D --no-snapshots --set scene.resolution=80 --set scheme.free_surface_pressure=zero --out $O/p-zero80
+$R run $D --no-snapshots --set scene.resolution=80 --set scheme.free_surface.pressure=zero --out $O/p-zero80
 $R run $D --no-snapshots --set scene.resolution=80 $N --out $O/newtonian80
 # Fang et al.'s drop (D/dr = 100), Oldroyd-B and Newtonian, with the projection ...
 F=cases/drop-fang.toml
-FI="--set scheme.method=isph --set scheme.shifting=true --set scheme.conformation=log
-  --set scheme.viscosity=implicit --set scheme.time_step=0 --set scheme.wall_model=mirror"
+FI="--set scheme.method=isph --set scheme.shifting=true --set scheme.conformation.form=log
+  --set scheme.viscosity=implicit --set scheme.time_step.fixed=0 --set scheme.walls.model=mirror"
 $R run $F --no-snapshots $FI --out plots/drop-fang/oldroyd-b
 $R run $F --no-snapshots $FI $N --out plots/drop-fang/newtonian
 # ... and with their weakly compressible scheme as the case file ships it (eps = 0.5, fixed
 # ghosts, their step), then eps = 0.2 and 0, the mirror wall, and the Newtonian drop (eps = 0.2,
 # our step: theirs exceeds the explicit viscous limit at eta = 4 Pa s).
 $R run $F --no-snapshots --out plots/drop-fang/wcsph-oldroyd-b
-$R run $F --no-snapshots --set scheme.artificial_stress=0.2 --out plots/drop-fang/wcsph-eps0.2 || true
-$R run $F --no-snapshots --set scheme.artificial_stress=0 --out plots/drop-fang/wcsph-eps0 || true
-$R run $F --no-snapshots --set scheme.wall_model=mirror --out plots/drop-fang/wcsph-mirror || true
-$R run $F --no-snapshots $N --set scheme.artificial_stress=0.2 --set scheme.time_step=0 \
+$R run $F --no-snapshots --set scheme.wcsph.artificial_stress=0.2 --out plots/drop-fang/wcsph-eps0.2 || true
+$R run $F --no-snapshots --set scheme.wcsph.artificial_stress=0 --out plots/drop-fang/wcsph-eps0 || true
+$R run $F --no-snapshots --set scheme.walls.model=mirror --out plots/drop-fang/wcsph-mirror || true
+$R run $F --no-snapshots $N --set scheme.wcsph.artificial_stress=0.2 --set scheme.time_step.fixed=0 \
   --out plots/drop-fang/wcsph-newtonian
 $R compare-drops $O/res20 $O/res40 $O/res80 $O/res120 --labels 'W/dr = 20,40,80,120' \
   --title 'Oldroyd-B drop, De = 1: resolution' --out $O/resolution.png

@@ -27,15 +27,15 @@ run() { # label case [--set k=v]...
 S="--set run.end_time=0.5 --set run.output_interval=0.05"
 run poiseuille poiseuille $S
 run poiseuille-eulerian poiseuille $S --set scheme.frame=eulerian
-run poiseuille-direct poiseuille $S --set scheme.conformation=direct
+run poiseuille-direct poiseuille $S --set scheme.conformation.form=direct
 run poiseuille-implicit poiseuille $S --set scheme.viscosity=implicit
 run poiseuille-implicit-standard poiseuille $S --set scheme.viscosity=implicit --set scheme.projection=standard
 run poiseuille-incremental-explicit poiseuille $S --set scheme.projection=incremental
-run poiseuille-lu poiseuille $S --set scheme.ppe_solver=lu --set scheme.frame=eulerian --set scheme.viscosity=implicit
-run poiseuille-bicgstab-cold poiseuille $S --set scheme.ppe_solver=bicgstab --set scheme.ppe_warm_start=false
-run poiseuille-reflected poiseuille $S --set scheme.wall_conformation=reflected
-run poiseuille-noshift-noreorder poiseuille $S --set scheme.shifting=false --set scheme.reorder=false
-run poiseuille-ucm-evss poiseuille $S --set fluid.model=ucm --set fluid.beta=0 --set scheme.evss_alpha=0.01 --set scheme.viscosity=implicit
+run poiseuille-lu poiseuille $S --set scheme.ppe.solver=lu --set scheme.frame=eulerian --set scheme.viscosity=implicit
+run poiseuille-bicgstab-cold poiseuille $S --set scheme.ppe.solver=bicgstab --set scheme.ppe.warm_start=false
+run poiseuille-reflected poiseuille $S --set scheme.walls.conformation=reflected
+run poiseuille-noshift-noreorder poiseuille $S --set scheme.shifting=false --set scheme.neighbours.reorder=false
+run poiseuille-ucm-evss poiseuille $S --set fluid.model=ucm --set fluid.beta=0 --set scheme.conformation.evss_alpha=0.01 --set scheme.viscosity=implicit
 run poiseuille-newtonian poiseuille $S --set fluid.model=newtonian --set fluid.beta=1 --set fluid.relaxation_time=0
 run taylor-green taylor-green --set run.end_time=0.2
 run taylor-green-eulerian taylor-green --set run.end_time=0.2 --set scheme.frame=eulerian
@@ -45,14 +45,14 @@ run cylinder-array-p2 cylinder-array --set run.end_time=0.03 --set run.output_in
 run cylinder-array-r13 cylinder-array --set scene.resolution=54 --set run.end_time=0.5
 run confined-cylinder confined-cylinder --set run.end_time=0.3
 run drop-impact drop-impact --set scene.resolution=40 --set run.end_time=0.03
-run drop-impact-zero drop-impact --set scene.resolution=40 --set run.end_time=0.03 --set scheme.free_surface_pressure=zero --set scheme.surface_repulsion=false
+run drop-impact-zero drop-impact --set scene.resolution=40 --set run.end_time=0.03 --set scheme.free_surface.pressure=zero --set scheme.free_surface.repulsion=false
 run drop-impact-explicit drop-impact --set scene.resolution=20 --set run.end_time=0.02 --set scheme.viscosity=explicit
 run drop-fang drop-fang --set scene.resolution=40 --set run.end_time=0.04
 run jet-buckling jet-buckling --set run.end_time=0.25
 run jet-buckling-fene-cr jet-buckling --set run.end_time=0.22 --set fluid.model=fene-cr --set fluid.l2=10
 
 # A study: stability.csv without its wall-time column.
-"$bin" -q study stability cases/poiseuille.toml --wi 1,4 --vary scheme.conformation=log,direct \
+"$bin" -q study stability cases/poiseuille.toml --wi 1,4 --vary scheme.conformation.form=log,direct \
   --set scene.resolution=15 --set run.end_time=1 --out "$work/study" >/dev/null 2>&1 || true
 printf '%-34s %-15s %s\n' study-stability stability.csv \
   "$(cut -d, -f1-8 "$work/study/stability.csv" | sha256sum | cut -c1-16)"

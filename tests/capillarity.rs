@@ -138,7 +138,7 @@ fn oldroyd_b_drop_follows_the_complex_viscosity() {
     );
 }
 
-/// The seed's cohesion force (scheme.surface_tension = "cohesion") in the weakly compressible
+/// The seed's cohesion force (scheme.surface_tension.form = "cohesion") in the weakly compressible
 /// scheme: a drop of R = 0.75 at δr = 0.05 (R/δr = 15, σ = 1, c = 50, Monaghan α = 1 to damp
 /// its breathing, to t = 3) holds together, and its interior pressure is the flat surface's
 /// cohesive pressure K (15.92, the mean field's, `Cohesion::flat_pressure`) plus σ_eff/R.
@@ -157,11 +157,11 @@ fn cohesion_drop_holds_the_cohesive_and_laplace_pressure() {
             "scene.length=3.75",
             "scene.height=3.75",
             "scene.drop.centre_height=1.875",
-            "scheme.surface_tension=cohesion",
+            "scheme.surface_tension.form=cohesion",
             "scheme.method=wcsph",
-            "scheme.sound_speed=50",
-            "scheme.artificial_viscosity=1",
-            "scheme.density_diffusion=0.1",
+            "scheme.wcsph.sound_speed=50",
+            "scheme.wcsph.artificial_viscosity=1",
+            "scheme.wcsph.density_diffusion=0.1",
             "run.end_time=3",
         ],
     );

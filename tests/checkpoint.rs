@@ -125,7 +125,7 @@ fn cylinder_array_continues_bit_identically() {
 #[test]
 fn amg_preconditioned_implicit_run_continues_bit_identically() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/cylinder-array.toml");
-    let sets = ["scene.resolution=36", "scheme.preconditioner=amg"].map(String::from);
+    let sets = ["scene.resolution=36", "scheme.ppe.preconditioner=amg"].map(String::from);
     let case = case::load(&path, &sets).expect("valid case");
     check_continuation(&case, "cylinder, AMG");
 }

@@ -309,7 +309,7 @@ fn forced_blow_up_is_recorded_not_crashed() {
         "--set",
         "run.end_time=2",
         "--set",
-        "scheme.dt_factor=8",
+        "scheme.time_step.factor=8",
     ]);
     assert_eq!(
         o.status.code(),

@@ -38,7 +38,7 @@ fn shear_stress_error(dir: &Path) -> f64 {
 /// the moving wall's part in the implicit viscous right-hand side the same run measured
 /// 17 % (velocity) and 56 % (τ_xy); a wall at rest leaves the fluid still (100 %).
 ///
-/// The same with the walls' ghosts on a fixed lattice (`scheme.wall_model = "fixed-ghost"`,
+/// The same with the walls' ghosts on a fixed lattice (`scheme.walls.model = "fixed-ghost"`,
 /// sliding walls through the same velocity offsets): measured 1.30 % / 1.48 % (velocity) and
 /// 1.8 % / 2.3 % (τ_xy), explicit / implicit, within 0.01 % of the mirrors'.
 #[test]
@@ -53,7 +53,7 @@ fn coarse_oldroyd_b_start_up_couette_follows_the_series() {
             "scene.resolution=15",
             "run.end_time=1",
             &format!("scheme.viscosity={viscosity}"),
-            &format!("scheme.wall_model={wall:?}"),
+            &format!("scheme.walls.model={wall:?}"),
         ]);
         let (s, dir) = run_quiet(&case, false);
         assert_eq!(

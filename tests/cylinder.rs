@@ -217,7 +217,7 @@ fn newtonian_confined_cylinder_drag_is_steady_and_independent_of_step_and_placem
     let halved = &[
         "run.end_time=0.5",
         "run.steady.average=0.3",
-        "scheme.dt_factor=0.1",
+        "scheme.time_step.factor=0.1",
     ];
     let continued = k(&half, halved, Some(&rest));
     assert!(

@@ -76,7 +76,7 @@ fn the_neighbour_skin_changes_no_bit_of_the_results() {
         ("disc-migration", 2.0, "scene.resolution=64", ["0.8", "2.0"]),
     ] {
         let run = |skin: &str| {
-            let skin = format!("scheme.neighbour_skin={skin}");
+            let skin = format!("scheme.neighbours.skin={skin}");
             series_of(name, end, &[resolution, &skin])
         };
         let (thin, thin_searches, steps) = run(skins[0]);

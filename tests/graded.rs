@@ -14,8 +14,8 @@ const GRADED: [&str; 6] = [
     "scene.refine_walls=4",
     "scheme.frame=eulerian",
     "scheme.viscosity=implicit",
-    "scheme.gradient_order=second",
-    "scheme.laplacian_order=second",
+    "scheme.operators.gradient=second",
+    "scheme.operators.laplacian=second",
 ];
 
 /// Newtonian Poiseuille flow on the graded channel (H/δr = 15, δr/4 at the plates: 581
@@ -82,7 +82,7 @@ fn graded_resolution_refuses_moving_particles_and_first_order_operators() {
         "{e}"
     );
     let mut first = GRADED.to_vec();
-    first.push("scheme.gradient_order=first");
+    first.push("scheme.operators.gradient=first");
     let e = refused(&first);
     assert!(
         e.contains("scene.refine_walls") && e.contains("gradient_order"),

@@ -186,7 +186,7 @@ fn the_upwind_remap_keeps_the_stress_noise_bounded_at_wi_8() {
             "scene.mean_flow=1".into(),
             "run.end_time=5".into(),
             "run.output_interval=0.5".into(),
-            format!("scheme.conformation_remap={remap}"),
+            format!("scheme.conformation.remap={remap}"),
         ]);
         let min_det = series_min_det_a(&rows);
         assert!(min_det >= 1.0 - 1e-6, "{remap}: min det A {min_det}");
@@ -204,7 +204,7 @@ fn the_upwind_remap_keeps_the_stress_noise_bounded_at_wi_8() {
 }
 
 /// The shipped UCM channel (β = 0, α_V = 0.01) at Wi = 32, coarsened to H/δr = 20 to t = 6.5,
-/// with and without the hourglass control. Without it (`scheme.hourglass_control = 0`) a mode
+/// with and without the hourglass control. Without it (`scheme.conformation.hourglass_control = 0`) a mode
 /// of period 3δr grows in the sheared wall layers and a particle crosses a wall: measured at
 /// t = 4.92 here (t ≈ 9 at H/δr = 30; every variant of the scheme broke between t = 1.6 and
 /// 13; README, *High Weissenberg number*). With it (the case's ξ = 0.2) the run finishes
@@ -218,7 +218,10 @@ fn the_hourglass_control_carries_the_ucm_channel_at_wi_32() {
         command.args(["-q", "run", "cases/poiseuille-ucm.toml", "--no-snapshots"]);
         command.args(["--no-charts", "--set", "fluid.relaxation_time=32"]);
         command.args(["--set", "run.end_time=6.5", "--set", "scene.resolution=20"]);
-        command.args(["--set", &format!("scheme.hourglass_control={xi}")]);
+        command.args([
+            "--set",
+            &format!("scheme.conformation.hourglass_control={xi}"),
+        ]);
         let status = command.arg("--out").arg(dir).status().unwrap();
         (status, read_series(&dir.join("series.csv")).unwrap())
     };
@@ -244,10 +247,13 @@ fn the_hourglass_control_carries_the_ucm_channel_at_wi_32() {
 #[test]
 fn the_hourglass_control_is_validated() {
     for value in ["2", "-0.1"] {
-        let set = vec![format!("scheme.hourglass_control={value}")];
+        let set = vec![format!("scheme.conformation.hourglass_control={value}")];
         let err = case::parse(common::POISEUILLE, "poiseuille.toml", "p", &set)
             .unwrap_err()
             .to_string();
-        assert!(err.contains("scheme.hourglass_control"), "{err}");
+        assert!(
+            err.contains("scheme.conformation.hourglass_control"),
+            "{err}"
+        );
     }
 }

@@ -1,7 +1,10 @@
 //! The layers import one way only (ARCHITECTURE.md): the engine nothing outside itself,
 //! analysis only the engine, set-up the engine and analysis, and only the application (behind
 //! the `app` feature) the command line, plots, VTK and progress bars. Checked on the source
-//! text: a `crate::<layer>` path in a file of a lower layer fails the test.
+//! text: a `crate::<layer>` path in a file of a lower layer fails the test. Within a layer no
+//! files import each other in a circle (`scripts/module_cycles.py`, which leaves out
+//! `#[cfg(test)]` modules): a circle means a stage reaches back into the code that configures
+//! it, where each stage should own its settings.
 
 use std::path::Path;
 
@@ -58,4 +61,20 @@ fn analysis_imports_only_the_engine() {
 fn setup_imports_no_application() {
     let v = violations("setup", &["app"]);
     assert!(v.is_empty(), "{}", v.join("\n"));
+}
+
+/// Fails with the circles `scripts/module_cycles.py` finds among the files under `src`.
+fn no_circles_in(src: &str) {
+    let out = std::process::Command::new("python3")
+        .args(["scripts/module_cycles.py", src])
+        .output()
+        .expect("python3 runs scripts/module_cycles.py");
+    let report = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "import circles in {src}:\n{report}");
+}
+
+#[test]
+fn no_file_imports_itself_through_others() {
+    no_circles_in("src");
+    no_circles_in("solver/src");
 }

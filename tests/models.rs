@@ -86,7 +86,7 @@ fn direct_conformation_integration_follows_waters_king() {
     let o: Vec<String> = [
         "scene.resolution=15",
         "run.end_time=3",
-        "scheme.conformation=direct",
+        "scheme.conformation.form=direct",
     ]
     .iter()
     .map(|s| s.to_string())

@@ -73,7 +73,7 @@ fn developed_channel_is_independent_of_the_step() {
         let case = poiseuille(&[
             "scene.resolution=15",
             "scheme.frame=eulerian",
-            &format!("scheme.dt_factor={factor}"),
+            &format!("scheme.time_step.factor={factor}"),
         ]);
         let (s, _dir) = run_quiet(&case, false);
         assert_eq!(s.outcome, Outcome::Finished, "{:?}", s.reason);
@@ -126,7 +126,7 @@ fn coarse_ucm_with_evss_is_stable() {
         "run.end_time=4",
         "fluid.model=ucm",
         "fluid.beta=0",
-        "scheme.evss_alpha=0.01",
+        "scheme.conformation.evss_alpha=0.01",
     ]);
     let (s, _dir) = run_quiet(&case, false);
     assert_eq!(s.outcome, Outcome::Finished, "{:?}", s.reason);
@@ -154,7 +154,7 @@ fn eulerian_run_factorises_the_ppe_once() {
             "scene.resolution=15",
             "run.end_time=0.5",
             "scheme.frame=eulerian",
-            &format!("scheme.ppe_solver={solver}"),
+            &format!("scheme.ppe.solver={solver}"),
         ]);
         run_quiet(&case, false).0
     };
@@ -187,7 +187,7 @@ fn implicit_viscosity_reproduces_newtonian_start_up() {
             "scene.resolution=15",
             "run.end_time=1",
             &format!("scheme.viscosity={viscosity}"),
-            &format!("scheme.dt_factor={dt_factor}"),
+            &format!("scheme.time_step.factor={dt_factor}"),
         ]);
         let (s, _dir) = run_quiet(&case, false);
         assert_eq!(s.outcome, Outcome::Finished, "{viscosity}: {:?}", s.reason);

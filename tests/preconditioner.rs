@@ -1,5 +1,5 @@
 //! The AMG preconditioner changes how the linear systems are solved, not what they solve: a
-//! run with `scheme.preconditioner = "amg"` follows the Jacobi run to within the solvers'
+//! run with `scheme.ppe.preconditioner = "amg"` follows the Jacobi run to within the solvers'
 //! tolerances, with far fewer PPE iterations.
 
 mod common;
@@ -11,7 +11,7 @@ fn run(preconditioner: &str, steps: usize) -> (Vec<rheosph::engine::math::Vec2>,
     let case = poiseuille(&[
         "scene.resolution=40",
         "scheme.viscosity=implicit",
-        &format!("scheme.preconditioner={preconditioner}"),
+        &format!("scheme.ppe.preconditioner={preconditioner}"),
     ]);
     let mut sim = Simulation::new(case.setup());
     let mut iterations = 0;

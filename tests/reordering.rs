@@ -11,7 +11,7 @@ fn series(reorder: bool) -> Vec<rheosph::app::io::SeriesRow> {
         "scene.resolution=15",
         "run.end_time=1",
         "run.output_interval=0.05",
-        &format!("scheme.reorder={reorder}"),
+        &format!("scheme.neighbours.reorder={reorder}"),
     ]);
     let (_, dir) = run_quiet(&case, false);
     read_series(&dir.path().join("series.csv")).unwrap()

@@ -52,7 +52,7 @@ fn convergence_study_writes_its_table_and_figures() {
 #[test]
 fn stability_study_records_a_forced_breakdown() {
     let out = tempfile::tempdir().unwrap();
-    let varies = study::product(&[study::parse_vary("scheme.dt_factor=0.2,8").unwrap()]);
+    let varies = study::product(&[study::parse_vary("scheme.time_step.factor=0.2,8").unwrap()]);
     let rows = study::stability::run(
         &base(&["scene.resolution=12", "run.end_time=2"]),
         &[1.0],

@@ -17,13 +17,13 @@ fn centre_velocity(viscosity: &str, dt_factor: f64) -> f64 {
         "auto"
     };
     let case = poiseuille(&[
-        &format!("scheme.conformation_integrator={conformation}"),
+        &format!("scheme.conformation.integrator={conformation}"),
         "scene.resolution=15",
         "run.end_time=0.8",
         "run.output_interval=0.1",
         "scheme.frame=eulerian",
         &format!("scheme.viscosity={viscosity}"),
-        &format!("scheme.dt_factor={dt_factor}"),
+        &format!("scheme.time_step.factor={dt_factor}"),
     ]);
     let (s, _dir) = run_quiet(&case, false);
     assert_eq!(s.outcome, Outcome::Finished, "{:?}", s.reason);

@@ -21,7 +21,7 @@ fn steady_wall_stress(resolution: usize, wall: &str) -> f64 {
     let case = poiseuille(&[
         &format!("scene.resolution={resolution}"),
         "fluid.relaxation_time=0.2",
-        &format!("scheme.wall_conformation={wall}"),
+        &format!("scheme.walls.conformation={wall}"),
     ]);
     let mut sim = Simulation::new(case.setup());
     let end = 4.0;

@@ -21,7 +21,7 @@ fn wcsph_channel_follows_waters_king() {
     wcsph_channel("mirror");
 }
 
-/// The same channel with the walls' ghosts on a fixed lattice (`scheme.wall_model =
+/// The same channel with the walls' ghosts on a fixed lattice (`scheme.walls.model =
 /// "fixed-ghost"`) and the same bounds: in a channel the fixed ghosts start where the mirrors
 /// are, and each takes the value of the particle nearest its mirror point, so the wall model
 /// must not cost accuracy where mirrors are exact. Measured: final L2 4.1 % (mirrors: 3.9 %;
@@ -32,7 +32,7 @@ fn wcsph_channel_with_fixed_ghosts_follows_waters_king() {
 }
 
 fn wcsph_channel(wall_model: &str) {
-    let model = format!("scheme.wall_model={wall_model:?}");
+    let model = format!("scheme.walls.model={wall_model:?}");
     let case = poiseuille(&[
         "scheme.method=\"wcsph\"",
         "scene.resolution=15",
@@ -57,7 +57,7 @@ fn wcsph_channel(wall_model: &str) {
 fn fang_drop(epsilon: &str) -> rheosph::app::run::Summary {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/drop-fang.toml");
     let o: Vec<String> = [
-        &format!("scheme.artificial_stress={epsilon}"),
+        &format!("scheme.wcsph.artificial_stress={epsilon}"),
         "run.end_time=0.047",
         "run.snapshot_interval=1",
     ]
@@ -101,20 +101,23 @@ fn wcsph_keys_are_validated() {
             .to_string()
     };
     assert!(bad(&["scheme.frame=\"eulerian\""]).contains("scheme.frame"));
-    assert!(bad(&["scheme.evss_alpha=0.1"]).contains("scheme.evss_alpha"));
-    assert!(bad(&["scheme.hourglass_control=0.2"]).contains("scheme.hourglass_control"));
-    assert!(bad(&["scheme.artificial_stress=2"]).contains("scheme.artificial_stress"));
-    assert!(bad(&["scheme.sound_speed=-1"]).contains("scheme.sound_speed"));
-    assert!(bad(&["scheme.density_diffusion=-0.1"]).contains("scheme.density_diffusion"));
-    assert!(bad(&["scheme.time_step=-1e-5"]).contains("scheme.time_step"));
+    assert!(bad(&["scheme.conformation.evss_alpha=0.1"]).contains("scheme.conformation.evss_alpha"));
+    assert!(bad(&["scheme.conformation.hourglass_control=0.2"])
+        .contains("scheme.conformation.hourglass_control"));
+    assert!(bad(&["scheme.wcsph.artificial_stress=2"]).contains("scheme.wcsph.artificial_stress"));
+    assert!(bad(&["scheme.wcsph.sound_speed=-1"]).contains("scheme.wcsph.sound_speed"));
     assert!(
-        bad(&["scheme.sound_speed_stress_factor=-1"]).contains("scheme.sound_speed_stress_factor")
+        bad(&["scheme.wcsph.density_diffusion=-0.1"]).contains("scheme.wcsph.density_diffusion")
     );
-    assert!(bad(&["scheme.wall_model=\"fixed\""]).contains("wall_model"));
-    assert!(bad(&["scheme.contact_line_rows=\"wall\""]).contains("scheme.contact_line_rows"));
-    assert!(bad(&["scheme.volume_relaxation=0.05"]).contains("scheme.volume_relaxation"));
+    assert!(bad(&["scheme.time_step.fixed=-1e-5"]).contains("scheme.time_step.fixed"));
+    assert!(bad(&["scheme.wcsph.sound_speed_stress_factor=-1"])
+        .contains("scheme.wcsph.sound_speed_stress_factor"));
+    assert!(bad(&["scheme.walls.model=\"fixed\""]).contains("wall_model"));
+    assert!(bad(&["scheme.free_surface.contact_rows=\"wall\""])
+        .contains("scheme.free_surface.contact_rows"));
+    assert!(bad(&["scheme.ppe.volume_relaxation=0.05"]).contains("scheme.ppe.volume_relaxation"));
     // 0 restores the stability rules (a case file's fixed step undone by --set).
-    let o = vec!["scheme.time_step=0".to_string()];
+    let o = vec!["scheme.time_step.fixed=0".to_string()];
     let case = case::parse(common::POISEUILLE, "poiseuille.toml", "p", &o).unwrap();
     assert_eq!(case.scheme.time_step, None);
 }
@@ -137,6 +140,7 @@ density = 1.0
 viscosity = 0.1
 [scheme]
 method = "wcsph"
+[scheme.wcsph]
 sound_speed = 40.0
 artificial_viscosity = 2.0
 [run]
@@ -146,7 +150,7 @@ end_time = 5.0
     let path = dir.path().join("channel.toml");
     std::fs::write(&path, text).unwrap();
     let o: Vec<String> = velocity_scale
-        .map(|v| format!("scheme.artificial_viscosity_velocity={v}"))
+        .map(|v| format!("scheme.wcsph.artificial_viscosity_velocity={v}"))
         .into_iter()
         .collect();
     let case = case::load(&path, &o).expect("valid case");

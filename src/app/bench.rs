@@ -26,7 +26,7 @@ pub struct BenchRow {
     pub particles: usize,
     pub resolution: usize,
     pub neighbours_ms: f64,
-    /// The search for Verlet candidates within support + skin (`scheme.neighbour_skin`).
+    /// The search for Verlet candidates within support + skin (`scheme.neighbours.skin`).
     pub skin_search_ms: f64,
     /// A step that reuses the candidates: mirrors moved, candidates filtered.
     pub skin_reuse_ms: f64,
@@ -214,13 +214,13 @@ pub fn bench_size(target_particles: usize, steps: usize, lu_max: usize) -> Resul
 
     // The PPE solvers inside real steps of the same developed state.
     let warm = timed_steps(resolution, steps, &[])?;
-    let cold = timed_steps(resolution, steps, &["scheme.ppe_warm_start=false"])?;
+    let cold = timed_steps(resolution, steps, &["scheme.ppe.warm_start=false"])?;
     let lu = if n <= lu_max {
         // A factorisation per step is expensive at large sizes: three steps suffice.
         Some(timed_steps(
             resolution,
             steps.min(3),
-            &["scheme.ppe_solver=lu"],
+            &["scheme.ppe.solver=lu"],
         )?)
     } else {
         None

@@ -27,6 +27,19 @@ use crate::engine::boundary::Ghosts;
 use crate::engine::math::{Mat2, Vec2};
 use crate::engine::neighbours::NeighbourList;
 use crate::engine::operators::KernelSums;
+
+/// The velocity gradient of the constitutive update (see
+/// [`crate::engine::kinematics::ConstitutiveGradient`]).
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum GradientChoice {
+    /// `solenoidal` in closed domains, `wall-normal-even` with free surfaces.
+    #[default]
+    Auto,
+    Raw,
+    WallNormalEven,
+    Solenoidal,
+}
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 

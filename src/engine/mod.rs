@@ -26,6 +26,7 @@ pub mod reduce;
 pub mod resolution;
 pub mod rheology;
 pub mod scheme;
+pub mod settings;
 pub mod shifting;
 pub mod stabilisation;
 pub mod state;

@@ -19,8 +19,41 @@ use crate::engine::neighbours::{moved_less_than, Domain, NeighbourList, Neighbou
 use crate::engine::operators::KernelSums;
 use crate::engine::ordering::Reorder;
 use crate::engine::resolution::{Graded, Local, Resolution};
+use crate::engine::settings::{in_range, Invalid};
+use serde::{Deserialize, Serialize};
 
-/// The skin `scheme.neighbour_skin` defaults to, in units of δr, when it pays: the cell search
+/// `[scheme.neighbours]`: the neighbour search and the particles' order in memory. Results do
+/// not depend on them, only the time per step.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct NeighbourSettings {
+    /// The Verlet skin in units of δr (0: a cell search every step; unset: [`default_skin`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub skin: Option<f64>,
+    /// Periodically sort particles along a Morton curve for memory locality.
+    pub reorder: bool,
+}
+
+impl Default for NeighbourSettings {
+    fn default() -> Self {
+        Self {
+            skin: None,
+            reorder: true,
+        }
+    }
+}
+
+impl NeighbourSettings {
+    /// The table's own checks (keys relative to `[scheme.neighbours]`).
+    pub fn validate(&self) -> Result<(), Invalid> {
+        self.skin
+            .map(|v| in_range("skin", v, 0.0, 4.0))
+            .transpose()?;
+        Ok(())
+    }
+}
+
+/// The skin `scheme.neighbours.skin` defaults to, in units of δr, when it pays: the cell search
 /// costs 2–3 filterings of its candidates (`rheosph bench`), and 0.5δr lets the particles of
 /// the default explicit case move ~15 steps between searches.
 pub const SKIN: f64 = 0.5;

@@ -71,6 +71,25 @@ pub enum PpeLaplacian {
     LinearExact,
 }
 
+/// `[scheme.operators]`: the gradient's and the Laplacian's order (and the PPE's Laplacian,
+/// which `[scheme.ppe]` names).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct OperatorSettings {
+    /// `first` (Bonet–Lok, eq. (22)) or `second` (exact for quadratic fields, after Nasar et
+    /// al. 2021): the corrected gradient of every first-derivative operator.
+    #[serde(rename = "gradient")]
+    pub gradient_order: GradientOrder,
+    /// `first` (Morris, eq. (21)) or `second` (exact for quadratic fields, after Nasar et al.
+    /// 2021): the Laplacian of the PPE and the viscous term.
+    #[serde(rename = "laplacian")]
+    pub laplacian_order: LaplacianOrder,
+    /// The PPE's Laplacian: (21) as `laplacian_order` has it, or made exact for linear fields
+    /// (`scheme.ppe.laplacian`).
+    #[serde(skip)]
+    pub ppe_laplacian: PpeLaplacian,
+}
+
 /// Per-pair kernel data and per-particle correction tensors of one particle configuration.
 #[derive(Clone, Debug, Default)]
 pub struct KernelSums {
@@ -126,11 +145,11 @@ impl KernelSums {
         self.rows.get(i).map_or(1.0, |s| s * s / self.dv)
     }
 
-    /// The operators' variants, chosen once from the scheme.
-    pub fn configure(&mut self, scheme: &crate::engine::scheme::Scheme) {
-        self.order = scheme.gradient_order;
-        self.laplacian_order = scheme.laplacian_order;
-        self.ppe_laplacian = scheme.ppe_laplacian;
+    /// The operators' variants, chosen once at set-up.
+    pub fn configure(&mut self, settings: OperatorSettings) {
+        self.order = settings.gradient_order;
+        self.laplacian_order = settings.laplacian_order;
+        self.ppe_laplacian = settings.ppe_laplacian;
     }
 
     /// Recomputes pair factors, L_i and ∇Ŵ_ij for the current neighbour list.

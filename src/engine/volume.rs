@@ -4,7 +4,7 @@
 //! The projection keeps ∇·u = 0, but the discrete divergence is not exactly the rate of
 //! change of a particle's volume, and nothing restores a volume once it has drifted: in a
 //! pool near rest the free-surface shift (41) is proportional to the speed, so it stops
-//! too. With `scheme.volume_relaxation` = α > 0, row i of the PPE asks for a divergence
+//! too. With `scheme.ppe.volume_relaxation` = α > 0, row i of the PPE asks for a divergence
 //! that removes a fraction α of the particle concentration's error per step,
 //!
 //! ```text
@@ -48,19 +48,8 @@ pub enum RowSupport {
     Dirichlet,
 }
 
-impl RowSupport {
-    /// Row i's support under `surface` (every row full without a free surface).
-    pub fn of(surface: Option<&crate::engine::free_surface::FreeSurface>, i: usize) -> Self {
-        match surface {
-            Some(s) if s.on_surface[i] => RowSupport::Dirichlet,
-            Some(s) if s.near_surface[i] => RowSupport::Truncated,
-            _ => RowSupport::Full,
-        }
-    }
-}
-
 /// The relaxation of the particle concentration towards the lattice's, chosen at set-up
-/// (`scheme.volume_relaxation` > 0).
+/// (`scheme.ppe.volume_relaxation` > 0).
 #[derive(Clone, Copy, Debug)]
 pub struct VolumeRelaxation {
     /// α: the fraction of the concentration error the PPE removes per step.
@@ -211,7 +200,7 @@ mod tests {
             let (list, sums, surface) =
                 crate::engine::free_surface::surface_of(&domain, &points, dr);
             let mut rhs = vec![0.0; points.len()];
-            let rows = |i| RowSupport::of(Some(&surface), i);
+            let rows = |i| surface.row_support(i);
             relax.add_source((&list, &sums), rows, 0.1, &mut rhs);
             (rhs, surface)
         };

@@ -29,6 +29,11 @@ pub fn field_err(field: &str, message: impl Into<String>) -> FieldError {
     (field.to_string(), message.into())
 }
 
+/// A stage's own check ([`crate::engine::settings::Invalid`]), its key under `table`.
+pub fn stage_err(table: &str, e: crate::engine::settings::Invalid) -> FieldError {
+    field_err(&format!("{table}.{}", e.key), e.message)
+}
+
 pub fn positive(field: &str, v: f64) -> Result<f64, FieldError> {
     if v.is_finite() && v > 0.0 {
         Ok(v)

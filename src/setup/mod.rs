@@ -2,12 +2,14 @@
 //!
 //! [`case::parse`] reads a file's TOML, applies `--set` [`overrides`], reads the tables
 //! ([`schema`]), lets the scene validate itself ([`scenes`]) and validates the rest
-//! ([`validate`]) into a [`case::Case`]; [`derived`] numbers follow from it.
+//! ([`validate`]) into a [`case::Case`]; a key that moved or went is refused
+//! first, naming its new place ([`renamed`]); [`derived`] numbers follow from it.
 
 pub mod case;
 pub mod derived;
 pub mod error;
 pub mod overrides;
+pub mod renamed;
 pub mod scenes;
 pub mod schema;
 pub mod validate;

@@ -1,15 +1,15 @@
 //! A validated case, and the validation of the fluid, scheme and run tables into the
 //! engine's types (the scene validates itself, see [`crate::setup::scenes`]).
 
-use crate::engine::boundary::{TensorMirror, VelocityExtension};
+use crate::engine::boundary::{TensorMirror, VelocityExtension, WallVelocityChoice};
 use crate::engine::frame::Frame;
 use crate::engine::free_surface::{ContactRows, SurfaceShear, SurfaceTensionForm};
 use crate::engine::projection::Projection;
 use crate::engine::rheology::models::Parameter;
 use crate::engine::rheology::{Fluid, LawEntry, Model, Solvent, ViscosityLaw, LAWS, MODELS};
-use crate::engine::scheme::{Method, PpeSettings, Scheme};
+use crate::engine::scheme::{Method, Scheme};
 use crate::engine::step::{Scales, Setup};
-use crate::setup::error::{field_err, in_range, positive, FieldError};
+use crate::setup::error::{field_err, in_range, positive, stage_err, FieldError};
 use crate::setup::scenes::Scene;
 use std::sync::Arc;
 
@@ -69,18 +69,14 @@ impl Case {
 }
 use crate::engine::boundary::WallModel;
 use crate::engine::gravity::Gravity;
-use crate::engine::kinematics::ConstitutiveGradient;
-use crate::engine::operators::{GradientOrder, LaplacianOrder};
-use crate::engine::rheology::{ConformationIntegrator, ConformationScheme};
+use crate::engine::kinematics::{ConstitutiveGradient, GradientChoice};
+use crate::engine::operators::{GradientOrder, LaplacianOrder, OperatorSettings};
+use crate::engine::rheology::{ConformationIntegrator, ConformationScheme, IntegratorChoice};
 use crate::engine::viscosity::Viscosity;
-use crate::engine::weakly_compressible::{
-    sound_speed_for, ArtificialStress, ArtificialViscosity, WeaklyCompressible,
-};
+use crate::engine::weakly_compressible::sound_speed_for;
 use crate::setup::schema::{
-    CaseFile, FluidSpec, GradientChoice, GravityChoice, IntegratorChoice, MethodChoice,
-    PreconditionerChoice, ProjectionChoice, RunSpec, SchemeSpec, WallVelocityChoice,
+    CaseFile, FluidSpec, GravityChoice, MethodChoice, ProjectionChoice, RunSpec, SchemeSpec,
 };
-use rheosph_solver::Preconditioner;
 
 /// What graded resolution (`scene.refine_walls`) needs of the scheme: particles that stay
 /// where they are put, mirrors, and operators that take each row's own kernel (the
@@ -100,20 +96,22 @@ fn graded_scheme(scheme: &Scheme) -> Result<(), FieldError> {
         return refuse("the projection: scheme.method = \"isph\"");
     }
     if scheme.wall_model == WallModel::FixedGhost {
-        return refuse("mirrors: scheme.wall_model = \"mirror\"");
+        return refuse("mirrors: scheme.walls.model = \"mirror\"");
     }
     if scheme.ppe.volume_relaxation > 0.0 || scheme.hourglass_control > 0.0 {
-        return refuse("scheme.volume_relaxation and scheme.hourglass_control at 0");
+        return refuse(
+            "scheme.ppe.volume_relaxation and scheme.conformation.hourglass_control at 0",
+        );
     }
     // The first-order operators are exact for linear fields only: on the graded channel
     // (H/δr = 15, refine_walls = 4, Oldroyd-B) the steady parabola kept an L2 error of
     // 2.6e-4 with them, 1.4e-4 with the Laplacian alone of second order, 1.7e-6 with both
     // (9e-7 on the uniform lattice, whose symmetry makes the first order exact for it).
-    if scheme.gradient_order != GradientOrder::Second
-        || scheme.laplacian_order != LaplacianOrder::Second
+    if scheme.operators.gradient_order != GradientOrder::Second
+        || scheme.operators.laplacian_order != LaplacianOrder::Second
     {
         return refuse(
-            "operators exact for quadratic fields across the layers: scheme.gradient_order = \"second\" and scheme.laplacian_order = \"second\"",
+            "operators exact for quadratic fields across the layers: scheme.operators.gradient = \"second\" and scheme.operators.laplacian = \"second\"",
         );
     }
     Ok(())
@@ -132,9 +130,9 @@ pub fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
     if scene.graded() {
         graded_scheme(&scheme)?;
     }
-    if scene.has_corners() && raw.scheme.wall_model == WallModel::FixedGhost {
+    if scene.has_corners() && raw.scheme.walls.model == WallModel::FixedGhost {
         return Err(field_err(
-            "scheme.wall_model",
+            "scheme.walls.model",
             "this scene's corners and plates need mirrors: `fixed-ghost` has no lattice behind a corner yet",
         ));
     }
@@ -144,35 +142,36 @@ pub fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
             "a contact angle needs a surface tension (set fluid.surface_tension > 0)",
         ));
     }
-    if scene.contact_angle().is_some() && scheme.contact_line_rows == ContactRows::Wall {
+    if scene.contact_angle().is_some() && scheme.free_surface.contact_rows == ContactRows::Wall {
         return Err(field_err(
-            "scheme.contact_line_rows",
+            "scheme.free_surface.contact_rows",
             "`wall` takes the contact-line particles off the surface's Dirichlet rows, through which a contact angle acts: use `surface` or `held` with scene.contact_angle",
         ));
     }
-    if scheme.surface_tension == SurfaceTensionForm::Cohesion && scheme.method == Method::Projection
+    if scheme.surface_tension.form == SurfaceTensionForm::Cohesion
+        && scheme.method == Method::Projection
     {
         // README, *Cohesion*: the projection's Dirichlet rows carry none of the cohesive
         // pressure, and a static drop's surface ring drifted out until it broke down.
         return Err(field_err(
-            "scheme.surface_tension",
+            "scheme.surface_tension.form",
             "the cohesion force needs the weakly compressible scheme (scheme.method = \"wcsph\"): with the projection the drop's surface rows do not hold its cohesive pressure",
         ));
     }
     let own_wall_angle = scene
         .pool()
         .is_some_and(|p| p.wall_contact_angle != p.contact_angle);
-    if own_wall_angle && scheme.surface_tension == SurfaceTensionForm::Cohesion {
+    if own_wall_angle && scheme.surface_tension.form == SurfaceTensionForm::Cohesion {
         return Err(field_err(
             "scene.wall_contact_angle",
             "the cohesion force's wall attraction takes one contact angle at every wall: leave scene.wall_contact_angle out",
         ));
     }
-    if scheme.surface_shear == SurfaceShear::ShearFree
+    if scheme.free_surface.shear == SurfaceShear::ShearFree
         && !(scene.has_free_surface() && scheme.method == Method::Projection)
     {
         return Err(field_err(
-            "scheme.surface_shear",
+            "scheme.free_surface.shear",
             "`shear-free` completes the viscous term of the projection's free-surface rows: it needs a free surface and scheme.method = \"isph\"",
         ));
     }
@@ -181,16 +180,7 @@ pub fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
         name: name.to_string(),
         scene,
         fluid,
-        scheme: Scheme {
-            ppe: PpeSettings {
-                divergence_tolerance: positive(
-                    "scheme.ppe_divergence_tolerance",
-                    raw.scheme.ppe_divergence_tolerance,
-                )?,
-                ..scheme.ppe
-            },
-            ..scheme
-        },
+        scheme,
         end_time: run.end_time,
         output_interval: run.output_interval,
         snapshot_interval: run.snapshot_interval,
@@ -370,7 +360,7 @@ fn frame_fits(s: &SchemeSpec, scene: &dyn Scene) -> Result<(), FieldError> {
     Ok(())
 }
 
-/// `scheme.wall_velocity`'s `auto` ([`WallVelocityChoice::Auto`] says why); `open`: the
+/// `scheme.walls.velocity`'s `auto` ([`WallVelocityChoice::Auto`] says why); `open`: the
 /// scene has a free surface.
 fn wall_velocity(
     choice: WallVelocityChoice,
@@ -389,11 +379,11 @@ fn wall_velocity(
     }
 }
 
-/// `scheme.conformation_integrator`, its `auto` resolved ([`IntegratorChoice::Auto`] says
+/// `scheme.conformation.integrator`, its `auto` resolved ([`IntegratorChoice::Auto`] says
 /// why).
 fn conformation_integrator(s: &SchemeSpec) -> Result<ConformationIntegrator, FieldError> {
-    let log = s.conformation == ConformationScheme::Log;
-    Ok(match s.conformation_integrator {
+    let log = s.conformation.form == ConformationScheme::Log;
+    Ok(match s.conformation.integrator {
         IntegratorChoice::Auto if s.viscosity == Viscosity::CrankNicolson => {
             ConformationIntegrator::Strang
         }
@@ -405,8 +395,8 @@ fn conformation_integrator(s: &SchemeSpec) -> Result<ConformationIntegrator, Fie
         IntegratorChoice::Unsplit if log => ConformationIntegrator::Unsplit,
         IntegratorChoice::Unsplit => {
             return Err(field_err(
-                "scheme.conformation_integrator",
-                "`unsplit` is formed in Ψ = ln A: it needs scheme.conformation = \"log\"",
+                "scheme.conformation.integrator",
+                "`unsplit` is formed in Ψ = ln A: it needs scheme.conformation.form = \"log\"",
             ))
         }
     })
@@ -416,15 +406,10 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
     let open = scene.has_free_surface();
     let method = method(s, scene, fluid)?;
     // 0 restores the stability rules (so `--set` can undo a case file's fixed step).
-    let time_step = s
-        .time_step
-        .filter(|&dt| dt != 0.0)
-        .map(|dt| positive("scheme.time_step", dt))
-        .transpose()?;
+    let time_step = (s.time_step.validate()).map_err(|e| stage_err("scheme.time_step", e))?;
     frame_fits(s, scene)?;
-    let evss_alpha = in_range("scheme.evss_alpha", s.evss_alpha, 0.0, 1.0)?;
     // Explicit: ν δt/h² = ξ × the elastic Courant number (engine::rheology::hourglass).
-    let hourglass_control = in_range("scheme.hourglass_control", s.hourglass_control, 0.0, 1.0)?;
+    (s.conformation.validate()).map_err(|e| stage_err("scheme.conformation", e))?;
     let viscous_tolerance = s.viscous_tolerance;
     if !(viscous_tolerance > 0.0 && viscous_tolerance <= 1e-2) {
         return Err(field_err(
@@ -432,18 +417,15 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
             format!("must be in (0, 1e-2], got {viscous_tolerance}"),
         ));
     }
-    let neighbour_skin = s
-        .neighbour_skin
-        .map(|v| in_range("scheme.neighbour_skin", v, 0.0, 4.0))
-        .transpose()?;
+    (s.neighbours.validate()).map_err(|e| stage_err("scheme.neighbours", e))?;
     solver_numbers(s)?;
     Ok(Scheme {
         method,
         time_step,
         frame: s.frame,
-        conformation: s.conformation,
+        conformation: s.conformation.form,
         conformation_integrator: conformation_integrator(s)?,
-        constitutive_gradient: match s.constitutive_gradient {
+        constitutive_gradient: match s.conformation.velocity_gradient {
             // With free surfaces the traceless part is not taken: the coarse Oldroyd-B drop
             // (W/δr = 20, Re = 4, De = 1) lost a contact-line particle through the plate at
             // t* = 2.0 with it, and ran through without it (W/δr = 40: both run through).
@@ -452,11 +434,11 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
             GradientChoice::Raw => ConstitutiveGradient::Raw,
             GradientChoice::WallNormalEven => ConstitutiveGradient::WallNormalEven,
         },
-        conformation_remap: s.conformation_remap.resolve(s.frame),
+        conformation_remap: s.conformation.remap.resolve(s.frame),
         shifting: s.shifting,
-        evss_alpha,
-        hourglass_control,
-        dt_factor: s.dt_factor,
+        evss_alpha: s.conformation.evss_alpha,
+        hourglass_control: s.conformation.hourglass_control,
+        dt_factor: s.time_step.factor,
         viscosity: s.viscosity,
         projection: match s.projection {
             // The incremental projection only where the standard one's O(νδt/L²) splitting
@@ -482,45 +464,26 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
             ProjectionChoice::Auto | ProjectionChoice::Standard => Projection::Standard,
             ProjectionChoice::Incremental => Projection::Incremental,
         },
-        ppe: PpeSettings {
-            tolerance: s.ppe_tolerance,
-            divergence_tolerance: s.ppe_divergence_tolerance,
-            max_iterations: s.ppe_max_iterations,
-            warm_start: s.ppe_warm_start,
-            solver: s.ppe_solver,
-            volume_relaxation: s.volume_relaxation,
-            preconditioner: match s.preconditioner {
-                PreconditionerChoice::Auto => Preconditioner::Adaptive,
-                PreconditionerChoice::Jacobi => Preconditioner::Jacobi,
-                PreconditionerChoice::Amg => Preconditioner::Amg,
-            },
-        },
-        reorder: s.reorder,
-        neighbour_skin,
+        ppe: s.ppe,
+        reorder: s.neighbours.reorder,
+        neighbour_skin: s.neighbours.skin,
         viscous_tolerance,
-        wall_conformation: s.wall_conformation.unwrap_or(if open {
+        wall_conformation: s.walls.conformation.unwrap_or(if open {
             TensorMirror::Even
         } else {
             TensorMirror::Linear
         }),
-        wall_model: s.wall_model,
-        wall_velocity: wall_velocity(s.wall_velocity, scene, fluid, open),
-        wall_pressure: s.wall_pressure,
+        wall_model: s.walls.model,
+        wall_velocity: wall_velocity(s.walls.velocity, scene, fluid, open),
+        wall_pressure: s.walls.pressure,
         gravity: gravity(s, scene)?,
-        gradient_order: s.gradient_order,
-        laplacian_order: s.laplacian_order,
-        ppe_laplacian: s.ppe_laplacian,
-        free_surface_pressure: s.free_surface_pressure,
-        surface_gradient: s.surface_gradient,
-        contact_line_rows: s.contact_line_rows,
-        surface_repulsion: s.surface_repulsion,
+        operators: OperatorSettings {
+            ppe_laplacian: s.ppe.laplacian,
+            ..s.operators
+        },
+        free_surface: s.free_surface,
         surface_tension: s.surface_tension,
-        capillary_time_level: s.capillary_time_level,
-        contact_curvature: s.contact_curvature,
-        contact_angle_at: s.contact_angle_at,
-        surface_indicator: s.surface_indicator,
-        surface_shear: s.surface_shear,
-        detached_momentum: s.detached_momentum,
+        wetting: s.wetting,
     })
 }
 
@@ -551,25 +514,9 @@ fn gravity(s: &SchemeSpec, scene: &dyn Scene) -> Result<Gravity, FieldError> {
     }
 }
 
-/// The step factor and the PPE's stopping rule: positive, in range.
+/// The PPE's table: positive, in range.
 fn solver_numbers(s: &SchemeSpec) -> Result<(), FieldError> {
-    if !(s.dt_factor.is_finite() && s.dt_factor > 0.0) {
-        return Err(field_err(
-            "scheme.dt_factor",
-            format!("must be a positive number, got {}", s.dt_factor),
-        ));
-    }
-    if !(s.ppe_tolerance > 0.0 && s.ppe_tolerance < 1.0) {
-        return Err(field_err(
-            "scheme.ppe_tolerance",
-            format!("must be in (0, 1), got {}", s.ppe_tolerance),
-        ));
-    }
-    if s.ppe_max_iterations == 0 {
-        return Err(field_err("scheme.ppe_max_iterations", "must be at least 1"));
-    }
-    in_range("scheme.volume_relaxation", s.volume_relaxation, 0.0, 1.0)?;
-    Ok(())
+    s.ppe.validate().map_err(|e| stage_err("scheme.ppe", e))
 }
 
 /// The time integrator and, for the weakly compressible one, its settings; what it cannot
@@ -590,37 +537,36 @@ fn method(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Method, Fi
             "weakly compressible particles move with the flow: lagrangian",
         );
     }
-    if s.evss_alpha != 0.0 {
+    if s.conformation.evss_alpha != 0.0 {
         return refuse(
-            "scheme.evss_alpha",
+            "scheme.conformation.evss_alpha",
             "the polymer stress enters whole in the symmetric form, without EVSS (set 0)",
         );
     }
-    if s.hourglass_control != 0.0 {
+    if s.conformation.hourglass_control != 0.0 {
         return refuse(
-            "scheme.hourglass_control",
+            "scheme.conformation.hourglass_control",
             "it acts on the projection's nested stress divergence, which is not formed (set 0)",
         );
     }
-    if fluid.surface_tension > 0.0 && s.surface_tension != SurfaceTensionForm::Cohesion {
+    if fluid.surface_tension > 0.0 && s.surface_tension.form != SurfaceTensionForm::Cohesion {
         return refuse(
             "fluid.surface_tension",
-            "its capillary jump enters the projection's free-surface pressure only (set scheme.surface_tension = \"cohesion\")",
+            "its capillary jump enters the projection's free-surface pressure only (set scheme.surface_tension.form = \"cohesion\")",
         );
     }
     if s.projection == ProjectionChoice::Incremental {
         return refuse("scheme.projection", "there is no projection");
     }
-    if s.volume_relaxation != 0.0 {
-        return refuse("scheme.volume_relaxation", "there is no PPE (set 0)");
+    if s.ppe.volume_relaxation != 0.0 {
+        return refuse("scheme.ppe.volume_relaxation", "there is no PPE (set 0)");
     }
-    if s.contact_line_rows == ContactRows::Wall {
+    if s.free_surface.contact_rows == ContactRows::Wall {
         return refuse(
-            "scheme.contact_line_rows",
+            "scheme.free_surface.contact_rows",
             "there are no PPE rows to give the contact lines (`held` holds them off the wall)",
         );
     }
-    let mach = positive("scheme.mach", s.mach)?;
     let u = scene.velocity_scale(fluid);
     let length = scene.length_scale();
     let nu = fluid.viscosity / fluid.density;
@@ -630,56 +576,11 @@ fn method(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Method, Fi
         0.0
     };
     let g = scene.body_force().norm();
-    let sound_speed = match s.sound_speed {
-        Some(c) => positive("scheme.sound_speed", c)?,
-        None => sound_speed_for(mach, u, nu, g, length, modulus),
-    };
-    let alpha = in_range(
-        "scheme.artificial_viscosity",
-        s.artificial_viscosity,
-        0.0,
-        10.0,
-    )?;
-    let beta = in_range(
-        "scheme.artificial_viscosity_beta",
-        s.artificial_viscosity_beta,
-        0.0,
-        10.0,
-    )?;
-    let epsilon = in_range("scheme.artificial_stress", s.artificial_stress, 0.0, 1.0)?;
-    if !(1..=16).contains(&s.artificial_stress_exponent) {
-        return Err(field_err(
-            "scheme.artificial_stress_exponent",
-            format!(
-                "must be an integer in 1..=16 (Fang et al.: 4), got {}",
-                s.artificial_stress_exponent
-            ),
-        ));
-    }
-    let delta = in_range("scheme.density_diffusion", s.density_diffusion, 0.0, 1.0)?;
-    let stress_factor = in_range(
-        "scheme.sound_speed_stress_factor",
-        s.sound_speed_stress_factor,
-        0.0,
-        1e3,
-    )?;
-    Ok(Method::WeaklyCompressible(WeaklyCompressible {
-        sound_speed,
-        viscosity: ArtificialViscosity {
-            alpha,
-            beta,
-            velocity_scale: s
-                .artificial_viscosity_velocity
-                .map(|v| positive("scheme.artificial_viscosity_velocity", v))
-                .transpose()?,
-        },
-        stress: ArtificialStress {
-            epsilon,
-            exponent: s.artificial_stress_exponent,
-        },
-        density_diffusion: delta,
-        stress_factor,
-    }))
+    let default_sound_speed = |mach| sound_speed_for(mach, u, nu, g, length, modulus);
+    let scheme = s.wcsph.resolve(default_sound_speed);
+    Ok(Method::WeaklyCompressible(
+        scheme.map_err(|e| stage_err("scheme.wcsph", e))?,
+    ))
 }
 
 /// The run's validated times.

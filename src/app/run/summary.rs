@@ -29,7 +29,7 @@ pub struct PpeSummary {
     pub lu_factorisations: usize,
     /// Largest relative residual ‖b − Ap‖/‖b‖ of any solve.
     pub max_relative_residual: f64,
-    /// Solves that stopped on the divergence tolerance (`scheme.ppe_divergence_tolerance`) before
+    /// Solves that stopped on the divergence tolerance (`scheme.ppe.divergence_tolerance`) before
     /// reaching the relative tolerance; for these ‖b‖ is near round-off and the relative
     /// residual can be O(1) by design.
     pub absolute_floor_stops: u64,
@@ -59,10 +59,10 @@ pub struct Summary {
     /// (0 for the projection).
     pub max_density_deviation: f64,
     /// The largest speed of sound of a step (WCSPH, which raises it with the polymer stress
-    /// by `scheme.sound_speed_stress_factor`; 0 for the projection).
+    /// by `scheme.wcsph.sound_speed_stress_factor`; 0 for the projection).
     pub max_sound_speed: f64,
     pub neighbour_pairs_per_particle: f64,
-    /// Cell searches for neighbours (`scheme.neighbour_skin`: the other steps filter the
+    /// Cell searches for neighbours (`scheme.neighbours.skin`: the other steps filter the
     /// last search's candidates).
     pub neighbour_searches: usize,
     /// What the probes report, by name: `steady` (channels with a cylinder: steady state,

@@ -80,7 +80,7 @@ pub struct StabilityArgs {
     #[arg(long = "vary", value_name = "KEY=V1,V2")]
     pub vary: Vec<String>,
     /// One variant, `key=v;key=v` (repeatable): studies of variants that are not a product,
-    /// e.g. `--variant scheme.method=isph --variant 'scheme.method=wcsph;scheme.density_diffusion=0.1'`.
+    /// e.g. `--variant scheme.method=isph --variant 'scheme.method=wcsph;scheme.wcsph.density_diffusion=0.1'`.
     /// Each is combined with every `--vary` combination.
     #[arg(long = "variant", value_name = "KEY=V;KEY=V")]
     pub variant: Vec<String>,

@@ -84,7 +84,7 @@ pub fn parse_vary(arg: &str) -> Result<(String, Vec<String>), CaseError> {
 }
 
 /// One explicit variant from a `--variant` argument: `key=value` pairs separated by `;`
-/// (e.g. `scheme.method=wcsph;scheme.density_diffusion=0.1`), labelled by its pairs.
+/// (e.g. `scheme.method=wcsph;scheme.wcsph.density_diffusion=0.1`), labelled by its pairs.
 pub fn parse_variant(arg: &str) -> Result<Variant, CaseError> {
     let mut v = Variant::default();
     for pair in arg.split(';').map(str::trim).filter(|p| !p.is_empty()) {
@@ -94,7 +94,7 @@ pub fn parse_variant(arg: &str) -> Result<Variant, CaseError> {
             message: format!("{arg:?}: expected key=value;key=value"),
         })?;
         let (key, value) = (key.trim(), value.trim());
-        let short = key.rsplit('.').next().unwrap_or(key);
+        let short = short_key(key);
         if !v.label.is_empty() {
             v.label.push(' ');
         }
@@ -137,7 +137,7 @@ pub fn variants(explicit: &[Variant], varies: &[(String, Vec<String>)]) -> Vec<V
 pub fn product(varies: &[(String, Vec<String>)]) -> Vec<Variant> {
     let mut out = vec![Variant::default()];
     for (key, values) in varies {
-        let short = key.rsplit('.').next().unwrap_or(key);
+        let short = short_key(key);
         out = out
             .into_iter()
             .flat_map(|v| {
@@ -155,6 +155,11 @@ pub fn product(varies: &[(String, Vec<String>)]) -> Vec<Variant> {
             .collect();
     }
     out
+}
+
+/// A key as a label names it: without its top-level table (`frame`, `conformation.form`).
+fn short_key(key: &str) -> &str {
+    key.split_once('.').map_or(key, |(_, rest)| rest)
 }
 
 /// A file-system-safe directory name for a label.
@@ -367,13 +372,13 @@ mod tests {
     fn product_of_varies_labels_every_combination() {
         let v = product(&[
             parse_vary("scheme.frame=lagrangian,eulerian").unwrap(),
-            parse_vary("scheme.conformation=log,direct").unwrap(),
+            parse_vary("scheme.conformation.form=log,direct").unwrap(),
         ]);
         assert_eq!(v.len(), 4);
-        assert_eq!(v[3].label, "frame=eulerian conformation=direct");
+        assert_eq!(v[3].label, "frame=eulerian conformation.form=direct");
         assert_eq!(
             v[3].overrides,
-            vec!["scheme.frame=eulerian", "scheme.conformation=direct"]
+            vec!["scheme.frame=eulerian", "scheme.conformation.form=direct"]
         );
         assert!(parse_vary("scheme.frame").is_err());
         assert!(parse_vary("scheme.frame=").is_err());
@@ -383,19 +388,19 @@ mod tests {
     fn explicit_variants_combine_with_every_vary() {
         let explicit = [
             parse_variant("scheme.method=isph").unwrap(),
-            parse_variant("scheme.method=wcsph; scheme.density_diffusion=0.1").unwrap(),
+            parse_variant("scheme.method=wcsph; scheme.wcsph.density_diffusion=0.1").unwrap(),
         ];
         let v = variants(&explicit, &[parse_vary("scene.resolution=15,30").unwrap()]);
         assert_eq!(v.len(), 4);
         assert_eq!(
             v[3].label,
-            "method=wcsph density_diffusion=0.1 resolution=30"
+            "method=wcsph wcsph.density_diffusion=0.1 resolution=30"
         );
         assert_eq!(
             v[3].overrides,
             vec![
                 "scheme.method=wcsph",
-                "scheme.density_diffusion=0.1",
+                "scheme.wcsph.density_diffusion=0.1",
                 "scene.resolution=30"
             ]
         );

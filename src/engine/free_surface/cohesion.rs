@@ -1,5 +1,5 @@
 //! Surface tension as a pairwise cohesion force (Wróblewski, Boryczko & Kopeć 2008, eq. (9)),
-//! the variant `scheme.surface_tension = "cohesion"` beside the capillary jump σκ of the
+//! the variant `scheme.surface_tension.form = "cohesion"` beside the capillary jump σκ of the
 //! normal-stress balance ([`super::tension`]).
 //!
 //! Every pair of fluid particles attracts with a force that acts only beyond the kernel's

@@ -23,7 +23,7 @@ use crate::engine::math::Vec2;
 use crate::engine::neighbours::{Domain, NeighbourList};
 use serde::{Deserialize, Serialize};
 
-/// Whether a detached body's momentum is kept (`scheme.detached_momentum`).
+/// Whether a detached body's momentum is kept (`scheme.free_surface.detached_momentum`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum DetachedMomentum {

@@ -92,6 +92,19 @@ pub struct FreeSurface {
 }
 
 impl FreeSurface {
+    /// Row i's support for the density-invariant source: FS rows are Dirichlet, NS rows
+    /// truncated, the rest full.
+    pub fn row_support(&self, i: usize) -> crate::engine::volume::RowSupport {
+        use crate::engine::volume::RowSupport;
+        if self.on_surface[i] {
+            RowSupport::Dirichlet
+        } else if self.near_surface[i] {
+            RowSupport::Truncated
+        } else {
+            RowSupport::Full
+        }
+    }
+
     /// Empty sets whose FS weights ramp over `blend_width` ([`Self::weight`]).
     pub fn with_blend_width(blend_width: f64) -> Self {
         Self {

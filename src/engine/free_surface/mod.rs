@@ -41,8 +41,8 @@ pub use detached::{BodyInputs, DetachedBodies, DetachedMomentum};
 pub use detection::{FreeSurface, NEAR_SURFACE_STRENGTH};
 pub use pressure::{SurfaceGradient, SurfaceInputs, SurfacePressure, SurfacePressureRule};
 pub use shear_free::{ShearFreeSurface, SurfaceShear};
-pub use tension::{CapillaryTimeLevel, SurfaceTension};
-pub use wetting::{ContactAngleAt, ContactCurvature, Wetting};
+pub use tension::{CapillaryTimeLevel, SurfaceTension, SurfaceTensionSettings};
+pub use wetting::{ContactAngleAt, ContactCurvature, Wetting, WettingSettings};
 
 use crate::engine::boundary::Ghosts;
 use crate::engine::kernel::QuinticSpline;
@@ -53,12 +53,13 @@ use crate::engine::pressure::SurfaceRows;
 use crate::engine::rheology::Fluid;
 use serde::{Deserialize, Serialize};
 
-/// How a surface tension acts (`scheme.surface_tension`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+/// How a surface tension acts (`scheme.surface_tension.form`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum SurfaceTensionForm {
     /// The capillary jump σκ in the free-surface pressure's normal-stress balance
     /// ([`tension`]), the contact angle imposed on the surface's shape ([`wetting`]).
+    #[default]
     NormalStress,
     /// The pairwise cohesion force of Wróblewski et al. (2008) ([`cohesion`]), the contact
     /// angle through the walls' attraction.
@@ -66,7 +67,7 @@ pub enum SurfaceTensionForm {
 }
 
 /// Which PPE row a surface particle in a wall's first half-spacing takes
-/// (`scheme.contact_line_rows`).
+/// (`scheme.free_surface.contact_rows`).
 ///
 /// An interior particle that approaches a wall is held off by the PPE: its approach
 /// compresses its kernel sum with its mirrors, and its pressure rises. A surface particle's
@@ -98,7 +99,7 @@ pub enum ContactRows {
     Held,
 }
 
-/// Whether a particle is on the free surface or not, or partly (`scheme.surface_indicator`).
+/// Whether a particle is on the free surface or not, or partly (`scheme.free_surface.indicator`).
 ///
 /// (36) is a threshold: a particle whose ⟨∇·r⟩ crosses it changes its PPE row from the
 /// Poisson equation to the Dirichlet value of (35a) with σκ in one step, and enters its
@@ -140,6 +141,48 @@ impl SurfaceIndicator {
         match self {
             SurfaceIndicator::Sharp => 0.0,
             SurfaceIndicator::Blended => BLEND_WIDTH,
+        }
+    }
+}
+
+/// `[scheme.free_surface]`: the free-surface condition and how its rows are built.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct FreeSurfaceSettings {
+    /// `normal-stress` (35a, the paper's), `normal-stress-neighbours` or `zero` Dirichlet
+    /// pressure.
+    pub pressure: SurfacePressure,
+    /// `full` (the normal-stress pressure's ∇u* over the whole support, the paper's) or
+    /// `own-side` (over the neighbours on the particle's own side of the surface).
+    pub gradient: SurfaceGradient,
+    /// `surface` (every surface particle a Dirichlet row, the paper's), `wall` (one within
+    /// δr/2 of a wall an interior row; not with a contact angle) or `held` (Dirichlet rows,
+    /// those within δr/4 of a wall held off it); see [`ContactRows`].
+    pub contact_rows: ContactRows,
+    /// `sharp` ((36) decides, the paper's) or `blended` (a particle (36) has just taken into
+    /// FS counts partly).
+    pub indicator: SurfaceIndicator,
+    /// `truncated` (the Laplacian (21) on the truncated support, the paper's) or
+    /// `shear-free` (plus the tangential flux of the shear-free condition).
+    pub shear: SurfaceShear,
+    /// `conserved` (a body of liquid detached from the rest keeps its momentum and angular
+    /// momentum) or `unconstrained` (the paper's).
+    pub detached_momentum: DetachedMomentum,
+    /// The repulsive term of (42)–(44) in the shifting of internal particles (King & Lind:
+    /// helpful for Re < 5).
+    pub repulsion: bool,
+}
+
+impl Default for FreeSurfaceSettings {
+    fn default() -> Self {
+        Self {
+            pressure: SurfacePressure::default(),
+            gradient: SurfaceGradient::default(),
+            contact_rows: ContactRows::default(),
+            indicator: SurfaceIndicator::default(),
+            shear: SurfaceShear::default(),
+            detached_momentum: DetachedMomentum::default(),
+            repulsion: true,
         }
     }
 }

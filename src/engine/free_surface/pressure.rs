@@ -22,12 +22,13 @@ use serde::{Deserialize, Serialize};
 /// neighbours' values ([`sparse_surface_pressure`]; p = 0 where it has none).
 pub(crate) const MIN_SURFACE_NEIGHBOURS: usize = 12;
 
-/// The rule named in a case file (`scheme.free_surface_pressure`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+/// The rule named in a case file (`scheme.free_surface.pressure`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum SurfacePressure {
     /// King & Lind's normal-stress balance (35a): p = 2η_s n·D·n + n·τ_p·n; p = 0 on sparse
     /// surface particles.
+    #[default]
     NormalStress,
     /// (35a), with sparse surface particles taking their trusted surface neighbours' mean.
     NormalStressNeighbours,
@@ -35,7 +36,7 @@ pub enum SurfacePressure {
     Zero,
 }
 
-/// Which neighbours the velocity gradient of (35a) is taken over (`scheme.surface_gradient`).
+/// Which neighbours the velocity gradient of (35a) is taken over (`scheme.free_surface.gradient`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum SurfaceGradient {

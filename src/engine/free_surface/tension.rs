@@ -39,7 +39,7 @@
 //! stays the default, and the free drops' cases take the midpoint.
 
 use crate::engine::free_surface::wetting::{ContactCurvature, ContactLine, Wetting};
-use crate::engine::free_surface::FreeSurface;
+use crate::engine::free_surface::{FreeSurface, SurfaceTensionForm};
 use crate::engine::kernel::QuinticSpline;
 use crate::engine::math::Vec2;
 use crate::engine::neighbours::NeighbourList;
@@ -47,8 +47,21 @@ use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+/// `[scheme.surface_tension]`: how a surface tension acts and where in the step its
+/// curvature is taken.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SurfaceTensionSettings {
+    /// `normal-stress` (the capillary jump σκ in the free-surface pressure) or `cohesion`
+    /// (the pairwise force of Wróblewski et al. 2008, with `scheme.method = "wcsph"`).
+    pub form: SurfaceTensionForm,
+    /// `predicted` (r* of (23), damping a mode of frequency ω at ω²δt/4) or `midpoint`
+    /// (rⁿ + (δt/2)uⁿ, no damping of a capillary mode from the step).
+    pub time_level: CapillaryTimeLevel,
+}
+
 /// Where in the step the capillary pressure's curvature is taken
-/// (`scheme.capillary_time_level`; module docs).
+/// (`scheme.surface_tension.time_level`; module docs).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum CapillaryTimeLevel {

@@ -66,7 +66,7 @@ const INTO_WALL: f64 = 0.25;
 /// exposure test ([`Wetting::is_exposed`]).
 const EXPOSED_REACH: f64 = 2.5;
 
-/// How the contact particle's own curvature is found (`scheme.contact_curvature`; module
+/// How the contact particle's own curvature is found (`scheme.wetting.curvature`; module
 /// docs).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -80,7 +80,21 @@ pub enum ContactCurvature {
     Turn,
 }
 
-/// Which curve meets the wall at θ (`scheme.contact_angle_at`; module docs).
+/// `[scheme.wetting]`: how a contact angle acts on the surface's shape (module docs).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct WettingSettings {
+    /// `fit` (the contact particle's parabola over the real surface and its continuation
+    /// beyond the wall) or `turn` (the circle leaving the wall at θ through its surface
+    /// neighbours, which acts at any error of the angle).
+    pub curvature: ContactCurvature,
+    /// `centres` (the curve through the surface particles' centres meets the wall at θ) or
+    /// `surface` (the surface half a spacing beyond them does, whose curvature the capillary
+    /// pressure takes).
+    pub angle_at: ContactAngleAt,
+}
+
+/// Which curve meets the wall at θ (`scheme.wetting.angle_at`; module docs).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum ContactAngleAt {
@@ -268,21 +282,13 @@ impl Wetting {
     #[cfg(test)]
     pub fn new(theta: f64, walls: Vec<Shape>, spacing: f64) -> Self {
         let walls = walls.into_iter().map(|w| (w, theta)).collect();
-        Self::per_wall(
-            walls,
-            spacing,
-            (ContactCurvature::Fit, ContactAngleAt::Centres),
-        )
+        Self::per_wall(walls, spacing, WettingSettings::default())
     }
 
     /// Each wall's own angle (radians, through the liquid) at its flat faces, for particles
-    /// of spacing `spacing`, the contact particle's curvature found by `curvature`, the angle
-    /// holding for the curve `at`.
-    pub fn per_wall(
-        walls: Vec<(Shape, f64)>,
-        spacing: f64,
-        (curvature, at): (ContactCurvature, ContactAngleAt),
-    ) -> Self {
+    /// of spacing `spacing`, the contact particle's curvature and the curve the angle holds
+    /// for as `settings` say.
+    pub fn per_wall(walls: Vec<(Shape, f64)>, spacing: f64, settings: WettingSettings) -> Self {
         let walls = walls
             .into_iter()
             .map(|(shape, theta)| WettedWall {
@@ -298,8 +304,8 @@ impl Wetting {
             spacing,
             corners: Vec::new(),
             hollows: Vec::new(),
-            curvature,
-            offset: match at {
+            curvature: settings.curvature,
+            offset: match settings.angle_at {
                 ContactAngleAt::Centres => 0.0,
                 ContactAngleAt::Surface => 0.5 * spacing,
             },
@@ -699,7 +705,10 @@ mod tests {
             let at_surface = Wetting::per_wall(
                 walls(theta),
                 dr,
-                (ContactCurvature::Fit, ContactAngleAt::Surface),
+                WettingSettings {
+                    angle_at: ContactAngleAt::Surface,
+                    ..WettingSettings::default()
+                },
             );
             let at_centres = Wetting::new(theta, vec![vertical_wall()], dr);
             let bend = if theta < FRAC_PI_2 { 1.0 } else { -1.0 };
@@ -908,11 +917,7 @@ mod tests {
         });
         let (wetting, neutral) = (30f64.to_radians(), 90f64.to_radians());
         let angles = vec![(vertical_wall(), wetting), (right, neutral)];
-        let w = Wetting::per_wall(
-            angles,
-            0.1,
-            (ContactCurvature::Fit, ContactAngleAt::Centres),
-        );
+        let w = Wetting::per_wall(angles, 0.1, WettingSettings::default());
         let up = Vec2::new(0.0, 1.0);
         let left = w.line(&Vec2::new(0.05, 1.0), Vec2::new(0.3, 1.0).normalize());
         assert!((left.unwrap().normal - Vec2::new(wetting.cos(), wetting.sin())).norm() < 1e-12);

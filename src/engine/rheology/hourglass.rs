@@ -1,4 +1,4 @@
-//! Hourglass control of the polymer stress (`scheme.hourglass_control`, ξ; 0 = off).
+//! Hourglass control of the polymer stress (`scheme.conformation.hourglass_control`, ξ; 0 = off).
 //!
 //! The polymer force of eq. (24) is nested: ∇u^n by eq. (20), the conformation from it
 //! (Step 3), then ∇·Φ by eq. (20) again. A relative velocity between neighbours that no

@@ -11,7 +11,9 @@ pub mod log_conformation;
 pub mod models;
 pub mod remap;
 
+use crate::engine::kinematics::GradientChoice;
 use crate::engine::math::Sym2;
+use crate::engine::settings::{in_range, Invalid};
 pub use conformation::{ConformationIntegrator, ConformationScheme, ConformationStage};
 pub use direct::{direct_step, direct_step_strang};
 pub use generalised_newtonian::{LawEntry, ViscosityLaw, LAWS};
@@ -24,6 +26,98 @@ pub use models::{
     Solvent, MODELS,
 };
 pub use remap::Remap;
+use serde::{Deserialize, Serialize};
+
+/// `[scheme.conformation.form]`: how the conformation tensor is updated.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ConformationSettings {
+    /// `log` (log-conformation, §III B) or `direct` (first-order Euler on A, eq. (10)).
+    pub form: ConformationScheme,
+    /// `auto`, `euler` (King & Lind, first order), `strang` (second order) or `unsplit`
+    /// (first order, steady states independent of δt).
+    pub integrator: IntegratorChoice,
+    /// The ALE remap u_ps·∇Ψ: `auto` (`second-order` in the Eulerian frame, `limited`
+    /// otherwise), `limited` (the central increment with the trace floor: det A ≥ 1),
+    /// `central` (the paper's), `upwind`, or `second-order` ([`remap`]).
+    pub remap: RemapChoice,
+    /// The velocity gradient the update sees: `auto`, `solenoidal`, `wall-normal-even` or
+    /// `raw` ([`crate::engine::kinematics`]).
+    pub velocity_gradient: GradientChoice,
+    /// α_V of the EVSS splitting, eqs. (6)–(8).
+    pub evss_alpha: f64,
+    /// ξ of the polymer stress's hourglass control (0 = off; [`hourglass`]).
+    pub hourglass_control: f64,
+}
+
+impl Default for ConformationSettings {
+    fn default() -> Self {
+        Self {
+            form: ConformationScheme::Log,
+            integrator: IntegratorChoice::Auto,
+            remap: RemapChoice::Auto,
+            velocity_gradient: GradientChoice::Auto,
+            evss_alpha: 0.0,
+            hourglass_control: 0.0,
+        }
+    }
+}
+
+impl ConformationSettings {
+    /// The table's own checks (keys relative to `[scheme.conformation.form]`).
+    pub fn validate(&self) -> Result<(), Invalid> {
+        in_range("evss_alpha", self.evss_alpha, 0.0, 1.0)?;
+        // Explicit: ν δt/h² = ξ × the elastic Courant number (hourglass).
+        in_range("hourglass_control", self.hourglass_control, 0.0, 1.0)?;
+        Ok(())
+    }
+}
+
+/// The conformation update's order in time (`scheme.conformation.integrator`).
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum IntegratorChoice {
+    /// `strang` with Crank–Nicolson viscosity (a second-order step needs both), else
+    /// `unsplit` in the Eulerian frame (whose flows are the steady ones, and a split update's
+    /// steady state moves with δt/λ), `euler` otherwise (the paper's update, whose results
+    /// are then unchanged).
+    #[default]
+    Auto,
+    Euler,
+    Strang,
+    /// The whole rate in one linearly implicit step (log-conformation only).
+    Unsplit,
+}
+
+/// The ALE remap of the conformation (`scheme.conformation.remap`; see
+/// [`remap`]).
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum RemapChoice {
+    /// `second-order` in the Eulerian frame (the remap is the whole transport, and the
+    /// first-order increment's forward-Euler growth sets its step), `limited` otherwise.
+    #[default]
+    Auto,
+    Limited,
+    Central,
+    Upwind,
+    SecondOrder,
+}
+
+impl RemapChoice {
+    /// The remap for `frame`.
+    pub fn resolve(self, frame: crate::engine::frame::Frame) -> Remap {
+        match self {
+            RemapChoice::Auto if frame == crate::engine::frame::Frame::Eulerian => {
+                Remap::SecondOrder
+            }
+            RemapChoice::Auto | RemapChoice::Limited => Remap::Limited,
+            RemapChoice::Central => Remap::Central,
+            RemapChoice::Upwind => Remap::Upwind,
+            RemapChoice::SecondOrder => Remap::SecondOrder,
+        }
+    }
+}
 
 /// Material constants of the fluid.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -151,7 +151,7 @@ fn neighbourhood(
     ghosts.set_model(scheme.wall_model, spacing);
     ghosts.set_velocity_extension(scheme.wall_velocity);
     let mut hood = Neighbourhood::new(ghosts);
-    hood.sums.configure(scheme);
+    hood.sums.configure(scheme.operators);
     hood.set_resolution(resolution);
     hood
 }
@@ -169,7 +169,7 @@ impl Simulation {
         };
         let kernel = QuinticSpline::for_spacing(setup.spacing);
         let mut walls = setup.walls;
-        let cohesive = scheme.surface_tension == SurfaceTensionForm::Cohesion;
+        let cohesive = scheme.surface_tension.form == SurfaceTensionForm::Cohesion;
         let cohesion = (cohesive && fluid.surface_tension > 0.0).then(|| {
             let shapes: Vec<_> = walls.iter().map(|w| w.shape).collect();
             let material = (fluid.surface_tension, fluid.density);
@@ -185,8 +185,7 @@ impl Simulation {
             let angles = walls
                 .iter()
                 .map(|w| (w.shape, w.contact_angle.unwrap_or(theta)));
-            let rules = (scheme.contact_curvature, scheme.contact_angle_at);
-            Wetting::per_wall(angles.collect(), setup.spacing, rules)
+            Wetting::per_wall(angles.collect(), setup.spacing, scheme.wetting)
         });
         let bodies = Bodies::new(
             (setup.discs, setup.contact, setup.gravity),
@@ -247,7 +246,7 @@ impl Simulation {
             cohesion,
             detached: (setup.free_surface
                 && scheme.method == Method::Projection
-                && scheme.detached_momentum == DetachedMomentum::Conserved)
+                && scheme.free_surface.detached_momentum == DetachedMomentum::Conserved)
                 .then(DetachedBodies::default),
             wall_force: (scheme.wall_pressure == WallPressure::Momentum).then(Vec::new),
         };
@@ -666,7 +665,7 @@ impl Simulation {
         let buffer = buffer_flags(&self.inflow);
         let prescribed = self.inflow.as_ref().map_or(Vec2::zeros(), |b| b.velocity);
         let nu_dt = st.nu * dt;
-        let preconditioner = self.scheme.ppe.preconditioner;
+        let preconditioner = self.scheme.ppe.preconditioner.resolve();
         let reports = self
             .timers
             .time(Stage::Viscous, || {
@@ -725,7 +724,12 @@ impl Simulation {
             st.pressure
                 .assemble(hood, fluid.density, dt, rows, wall_pressure);
             let surface = st.free_surface.as_ref().map(|fs| &fs.surface);
-            st.pressure.relax_volume((hood.0, hood.1), surface, dt);
+            let support = |i| {
+                surface.map_or(crate::engine::volume::RowSupport::Full, |s| {
+                    s.row_support(i)
+                })
+            };
+            st.pressure.relax_volume((hood.0, hood.1), support, dt);
         });
         let dirichlet = st
             .free_surface
@@ -1010,7 +1014,7 @@ fn shifting(
         scheme.frame,
         scheme.shifting,
         free_surface,
-        scheme.surface_repulsion,
+        scheme.free_surface.repulsion,
     );
     let shifting = Shifting::new(rule);
     match contact {

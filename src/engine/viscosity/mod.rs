@@ -35,6 +35,7 @@ use crate::engine::math::Vec2;
 use crate::engine::neighbours::NeighbourList;
 use crate::engine::operators::KernelSums;
 use crate::engine::rheology::Fluid;
+use crate::engine::settings::{positive, Invalid};
 pub use implicit::ImplicitViscosity;
 use rheosph_solver::{SolveError, SolveReport};
 use serde::{Deserialize, Serialize};
@@ -104,8 +105,40 @@ const LEAPFROG_LIMIT: f64 = 2.3;
 const DAMPING_GAIN: f64 = 4.0;
 const DAMPED_LIMIT: f64 = 8.0;
 const ELASTIC_MARGIN: f64 = 0.8;
-/// The factor 0.2 of (28): every limit here is given before it (`scheme.dt_factor`).
+/// The factor 0.2 of (28): every limit here is given before it (`scheme.time_step.factor`).
 const DT_FACTOR_OF_28: f64 = 0.2;
+
+/// `[scheme.time_step]`: the stability rules' factor, or a fixed step.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct TimeStepSettings {
+    /// The factor 0.2 of the time-step rule (28), applied to every limit.
+    pub factor: f64,
+    /// A fixed time step instead of the stability rules (either method; 0 or unset: the
+    /// rules, so that `--set` can undo a case file's fixed step).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fixed: Option<f64>,
+}
+
+impl Default for TimeStepSettings {
+    fn default() -> Self {
+        Self {
+            factor: DT_FACTOR_OF_28,
+            fixed: None,
+        }
+    }
+}
+
+impl TimeStepSettings {
+    /// The table's own checks (keys relative to `[scheme.time_step]`): the fixed step, if any.
+    pub fn validate(&self) -> Result<Option<f64>, Invalid> {
+        positive("factor", self.factor)?;
+        self.fixed
+            .filter(|&dt| dt != 0.0)
+            .map(|dt| positive("fixed", dt))
+            .transpose()
+    }
+}
 
 /// What the time-step limits depend on.
 #[derive(Clone, Copy, Debug)]

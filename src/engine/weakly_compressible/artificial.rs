@@ -6,7 +6,7 @@
 //!   pressure-like term of the pair; 0 for a receding pair. Wróblewski, Boryczko & Kopeć
 //!   (2008, eq. (10)) multiply φ_ij by (e^{|u_ij|} − 1)/|u_ij| to make it depend on the
 //!   pair's relative speed, a shear-rate dependent (thickening) artificial viscosity: here
-//!   with |u_ij| over a velocity scale v0 (`scheme.artificial_viscosity_velocity`).
+//!   with |u_ij| over a velocity scale v0 (`scheme.wcsph.artificial_viscosity_velocity`).
 //! * The artificial stress of Monaghan (2000) and Gray, Monaghan & Swift (2001): in the
 //!   principal frame of the total stress σ = −pI + τ, each tensile principal stress σ' > 0
 //!   adds `R' = −ε σ'/ρ²`; the pair term `f_ijⁿ (R_i + R_j)`, `f_ij = W(r_ij)/W(δr)`, is a

@@ -27,8 +27,10 @@ use crate::engine::math::{Mat2, Sym2, Vec2};
 use crate::engine::neighbours::NeighbourList;
 use crate::engine::operators::KernelSums;
 use crate::engine::rheology::Fluid;
+use crate::engine::settings::{in_range, positive, Invalid};
 pub use artificial::{ArtificialStress, ArtificialViscosity};
 use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
 
 /// The acoustic Courant number C_a of δt ≤ C_a h/(c + |u|): Morris, Fox & Zhu (1997) take
 /// 0.25 with the quintic kernel (h = 1.3δr here as there).
@@ -40,6 +42,100 @@ pub const DEFAULT_MACH: f64 = 0.1;
 /// Beyond this relative density deviation a run has left the weakly compressible regime
 /// (designed for ~1 %): it stops with the reason.
 pub const DENSITY_DEVIATION_LIMIT: f64 = 0.25;
+
+/// `[scheme.wcsph]`: the weakly compressible scheme's settings as a case file writes them (read
+/// with `scheme.method = "wcsph"`); [`WeaklyCompressible`] is what the step uses.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct WcsphSettings {
+    /// The speed of sound c (unset: from `mach`, see [`sound_speed_for`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sound_speed: Option<f64>,
+    /// The Mach number the default c is chosen for (0.1: δρ/ρ ~ 1 %).
+    pub mach: f64,
+    /// Monaghan's artificial viscosity α_Π (Fang et al.: 1).
+    pub artificial_viscosity: f64,
+    /// Monaghan's β_Π (Fang et al.: 2).
+    pub artificial_viscosity_beta: f64,
+    /// v0 of the shear-rate dependent artificial viscosity of Wróblewski et al. (2008, eq.
+    /// (10)) (unset: Monaghan's).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub artificial_viscosity_velocity: Option<f64>,
+    /// The artificial stress ε (0 = off; Fang et al.: 0.5 Oldroyd-B, 0.2 Newtonian).
+    pub artificial_stress: f64,
+    /// The artificial stress's exponent n (Fang et al.: 4).
+    pub artificial_stress_exponent: i32,
+    /// δ of the δ-SPH density diffusion (0 = off; Antuono et al. 2010: 0.1).
+    pub density_diffusion: f64,
+    /// K of ρ0c² ≥ K τ_max, the speed of sound following the stretched polymer (0 = c fixed
+    /// at `sound_speed`).
+    pub sound_speed_stress_factor: f64,
+}
+
+impl Default for WcsphSettings {
+    fn default() -> Self {
+        Self {
+            sound_speed: None,
+            mach: DEFAULT_MACH,
+            artificial_viscosity: 0.0,
+            artificial_viscosity_beta: 0.0,
+            artificial_viscosity_velocity: None,
+            artificial_stress: 0.0,
+            artificial_stress_exponent: 4,
+            density_diffusion: 0.0,
+            sound_speed_stress_factor: 0.0,
+        }
+    }
+}
+
+impl WcsphSettings {
+    /// The table's own checks and the scheme they describe, with `default_sound_speed` (the
+    /// scene's, [`sound_speed_for`]) where `sound_speed` is unset.
+    pub fn resolve(
+        &self,
+        default_sound_speed: impl FnOnce(f64) -> f64,
+    ) -> Result<WeaklyCompressible, Invalid> {
+        let mach = positive("mach", self.mach)?;
+        let sound_speed = match self.sound_speed {
+            Some(c) => positive("sound_speed", c)?,
+            None => default_sound_speed(mach),
+        };
+        let exponent = self.artificial_stress_exponent;
+        if !(1..=16).contains(&exponent) {
+            return Err(Invalid::new(
+                "artificial_stress_exponent",
+                format!("must be an integer in 1..=16 (Fang et al.: 4), got {exponent}"),
+            ));
+        }
+        Ok(WeaklyCompressible {
+            sound_speed,
+            viscosity: ArtificialViscosity {
+                alpha: in_range("artificial_viscosity", self.artificial_viscosity, 0.0, 10.0)?,
+                beta: in_range(
+                    "artificial_viscosity_beta",
+                    self.artificial_viscosity_beta,
+                    0.0,
+                    10.0,
+                )?,
+                velocity_scale: self
+                    .artificial_viscosity_velocity
+                    .map(|v| positive("artificial_viscosity_velocity", v))
+                    .transpose()?,
+            },
+            stress: ArtificialStress {
+                epsilon: in_range("artificial_stress", self.artificial_stress, 0.0, 1.0)?,
+                exponent,
+            },
+            density_diffusion: in_range("density_diffusion", self.density_diffusion, 0.0, 1.0)?,
+            stress_factor: in_range(
+                "sound_speed_stress_factor",
+                self.sound_speed_stress_factor,
+                0.0,
+                1e3,
+            )?,
+        })
+    }
+}
 
 /// The settings of the weakly compressible scheme.
 #[derive(Clone, Copy, Debug, PartialEq)]

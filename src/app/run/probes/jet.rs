@@ -40,11 +40,11 @@ pub struct JetSummary {
     pub frequency: Option<f64>,
     pub max_band_x: f64,
     /// How many times a surface particle on the plate with no interior neighbour had its
-    /// velocity into the plate removed (`scheme.contact_line_rows = "wall"`).
+    /// velocity into the plate removed (`scheme.free_surface.contact_rows = "wall"`).
     pub wall_holds: u64,
     /// Detached bodies of liquid whose momentum a step corrected, summed over the steps, and
     /// the largest velocity one correction removed from a particle (m/s)
-    /// (`scheme.detached_momentum = "conserved"`; 0 otherwise).
+    /// (`scheme.free_surface.detached_momentum = "conserved"`; 0 otherwise).
     pub detached_body_steps: u64,
     pub largest_detached_correction: f64,
 }
