@@ -1,6 +1,6 @@
 //! Surface tension in the free-surface pressure (`fluid.surface_tension`): the Laplace
 //! pressure of a drop at rest and the mode-2 period of an oscillating drop, at resolutions CI
-//! can afford (R/δr = 10); the convergence with resolution is in the README.
+//! can afford (R/δr = 10); the convergence with resolution is in the validation pages.
 
 mod common;
 use common::{run_quiet, shipped, summary_section};
@@ -56,7 +56,7 @@ fn a_drop_cut_from_the_square_lattice_rounds_itself_and_rests_at_laplace() {
 /// period against the 2D inviscid 2π/√(6σ/ρR³) = 2.565. Measured 2.480 (−3.3 %; −1.0 % at
 /// R/δr = 20, −0.6 % at 40) with the case's second-order gradient. Bound 4 %. Without surface
 /// tension the drop does not oscillate at all; with curvature from the smoothed normals'
-/// field it broke down (README).
+/// field it broke down (validation pages).
 #[test]
 fn oscillating_drop_has_the_capillary_period() {
     let case = shipped(
@@ -78,7 +78,7 @@ fn oscillating_drop_has_the_capillary_period() {
 /// theory of the 2D liquid cylinder (`analysis::analytic::drop_oscillation`; the summary's
 /// `theory_decay_rate` = 0.1773, period 2.590). Measured with the case's second-order
 /// gradient and midpoint curvature: decay 0.1573 (−11 %), period 2.548 (−1.6 %). The deficit
-/// is the free-surface viscous term's (−0.7, −11, −15 % at R/δr = 10, 20, 40, README); with
+/// is the free-surface viscous term's (−0.7, −11, −15 % at R/δr = 10, 20, 40, validation pages); with
 /// the paper's operators the drop decayed at 0.1902 (+7.3 %) because two numerical dampings
 /// (the first-order gradient at the surface rows, the curvature at r*) hid it. Bounds: 15 %
 /// on the decay, so a drop without its viscous damping (the capillary mode alone, 0) or with
@@ -113,7 +113,7 @@ fn viscous_drop_decays_at_the_linear_theory_rate() {
 /// the polymer's damping falls as 1/(1 + De²). Measured: period 2.473 (−1.7 %), decay 0.0658
 /// (+2.2 %). With the paper's first-order gradient and the curvature at r* the drop decayed
 /// at 0.0878 (+36 %): the first-order gradient's damping at the surface rows (0.0851 with the
-/// midpoint curvature alone, 0.0683 with the second-order gradient alone; README). Bounds:
+/// midpoint curvature alone, 0.0683 with the second-order gradient alone; validation pages). Bounds:
 /// 3 % on the period; 10 % on the decay, which the old operators fail and a drop that lost
 /// the polymer's memory (decaying as the Newtonian one, 0.19) or its damping (η_s alone:
 /// 0.038) fails by far.
@@ -143,7 +143,7 @@ fn oldroyd_b_drop_follows_the_complex_viscosity() {
 /// its breathing, to t = 3) holds together, and its interior pressure is the flat surface's
 /// cohesive pressure K (15.92, the mean field's, `Cohesion::flat_pressure`) plus σ_eff/R.
 /// Measured 17.66 at t = 4 against K + σ/R = 17.25 (+2.4 %). The Laplace test over R = 0.75,
-/// 1, 1.5 (README) gives p0 = 16.01 (K + 0.6 %) and σ_eff = 1.20σ; the breathing left
+/// 1, 1.5 (validation pages) gives p0 = 16.01 (K + 0.6 %) and σ_eff = 1.20σ; the breathing left
 /// ±0.1 in the late mean. Bound 5 %: the Laplace part σ/R is 7.7 % of the pressure, so a
 /// drop without surface tension beyond K would pass, but one without the cohesion force (p
 /// ≈ 0) or with K of a wrong normalisation (a factor 2π or ρ) would not.

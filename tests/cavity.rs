@@ -11,7 +11,7 @@ const CAVITY: &str = include_str!("../cases/lid-driven-cavity.toml");
 /// The shipped case made Newtonian (Re = 0.01, fixed particles, L/δr = 40) to t = 2: u on
 /// x = L/2 within 1.73 % of the Stokes flow (relative L2; 9.9 % at L/δr = 20 and 0.41 % at
 /// 80, order 2.5 then 2.1), ψ_min within 0.44 % and the vortex centre within 0.0017L
-/// (README). The corners carry point-reflected ghosts; without them, or with the lid's
+/// (validation pages). The corners carry point-reflected ghosts; without them, or with the lid's
 /// offset dropped from the implicit solve, the profile is off by tens of percent. Bounds:
 /// 3 % on the profiles, 1.5 % on ψ_min, 0.005L on the centre.
 #[test]

@@ -1,6 +1,6 @@
 //! Start-up plane Couette flow (a sliding wall, `scene.wall_velocity`) against its series
 //! solution (`analysis::analytic::startup_couette`), at a resolution CI can afford; the
-//! convergence with resolution is in the README.
+//! convergence with resolution is in the validation pages.
 
 mod common;
 use common::run_quiet;

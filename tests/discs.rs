@@ -19,7 +19,7 @@ fn disc_in_shear(overrides: &[&str]) -> Case {
 /// The shipped case at R/δr = 8 (3 888 particles) to t = 6, where the spin has been steady
 /// for ~3 time units (the Couette profile forms in H²/(π²ν) = 0.65): Ω/(−γ̇/2) over the
 /// second half is 1 in unbounded Stokes flow; measured 0.984 here. The rest is confinement,
-/// not resolution (README): 0.9815 at R/δr = 12 (t = 6) and at R/δr = 8 (t = 10), and 1.002
+/// not resolution (validation pages): 0.9815 at R/δr = 12 (t = 6) and at R/δr = 8 (t = 10), and 1.002
 /// in a cell twice as wide (2R/H = 0.125, R/δr = 8). Bound: 3 %.
 #[test]
 fn free_disc_turns_with_the_shear() {

@@ -1,6 +1,6 @@
 //! Generalised Newtonian fluids (`fluid.model = "power-law" | "bingham" | …`): channels
 //! against their exact steady profiles at H/δr = 15; the convergence with resolution is in
-//! the README.
+//! the validation pages.
 
 mod common;
 use common::{run_quiet, shipped, summary_section};

@@ -85,7 +85,7 @@ fn graded_resolution_refuses_moving_particles_and_first_order_operators() {
     first.push("scheme.operators.gradient=first");
     let e = refused(&first);
     assert!(
-        e.contains("scene.refine_walls") && e.contains("gradient_order"),
+        e.contains("scene.refine_walls") && e.contains("scheme.operators.gradient"),
         "{e}"
     );
     let e = refused(&["scene.refine_walls=0.5"]);

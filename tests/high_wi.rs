@@ -128,12 +128,12 @@ fn min_det_a(scheme: &[&str]) -> f64 {
 /// rest of the update keeps it by construction), bound 1 − 1e-6.
 #[test]
 fn det_a_stays_at_least_one_next_to_the_cylinder() {
-    let solenoidal = min_det_a(&["constitutive_gradient=solenoidal"]);
+    let solenoidal = min_det_a(&["conformation.velocity_gradient=solenoidal"]);
     assert!(
         solenoidal >= 1.0 - 1e-6,
         "solenoidal: min det A {solenoidal}"
     );
-    let raw = min_det_a(&["constitutive_gradient=raw"]);
+    let raw = min_det_a(&["conformation.velocity_gradient=raw"]);
     assert!(
         raw < 0.95,
         "the raw gradient should show the defect: min det A {raw}"
@@ -160,9 +160,9 @@ fn det_a_stays_at_least_one_next_to_the_cylinder() {
 /// (default) never leaves the neighbours' range: ≥ 1 up to round-off.
 #[test]
 fn the_limited_remap_keeps_det_a_at_least_one_in_the_eulerian_frame() {
-    let limited = min_det_a(&["frame=eulerian", "conformation_remap=limited"]);
+    let limited = min_det_a(&["frame=eulerian", "conformation.remap=limited"]);
     assert!(limited >= 1.0 - 1e-9, "limited: min det A {limited}");
-    let central = min_det_a(&["frame=eulerian", "conformation_remap=central"]);
+    let central = min_det_a(&["frame=eulerian", "conformation.remap=central"]);
     assert!(
         central < 0.95,
         "the central remap should show the defect: min det A {central}"
@@ -207,7 +207,7 @@ fn the_upwind_remap_keeps_the_stress_noise_bounded_at_wi_8() {
 /// with and without the hourglass control. Without it (`scheme.conformation.hourglass_control = 0`) a mode
 /// of period 3δr grows in the sheared wall layers and a particle crosses a wall: measured at
 /// t = 4.92 here (t ≈ 9 at H/δr = 30; every variant of the scheme broke between t = 1.6 and
-/// 13; README, *High Weissenberg number*). With it (the case's ξ = 0.2) the run finishes
+/// 13; validation pages, *High Weissenberg number*). With it (the case's ξ = 0.2) the run finishes
 /// (measured to t = 12) and its fastest particle stays under the series' own peak centre-line
 /// speed (measured 19.0 against 22.5; the breakdown passes 44): bound 1.1 × that peak. The end
 /// time leaves one and a half time units beyond the uncontrolled breakdown.

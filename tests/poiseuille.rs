@@ -1,5 +1,5 @@
 //! Start-up Poiseuille flow against the Waters & King (1970) series: coarse runs that CI can
-//! afford. The full-resolution numbers (H/δr = 30, 60, t = 15) are in the README.
+//! afford. The full-resolution numbers (H/δr = 30, 60, t = 15) are in the validation pages.
 
 mod common;
 use common::{poiseuille, run_quiet};

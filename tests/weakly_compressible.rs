@@ -1,7 +1,7 @@
 //! The weakly compressible scheme (`scheme.method = "wcsph"`): start-up Poiseuille against
 //! Waters–King, Fang et al.'s drop with and without the artificial stress, and the keys it
 //! refuses. The convergence, stability and speed–accuracy comparisons with the projection are
-//! in the README.
+//! in the validation pages.
 
 mod common;
 use common::{poiseuille, run_quiet};
@@ -112,7 +112,7 @@ fn wcsph_keys_are_validated() {
     assert!(bad(&["scheme.time_step.fixed=-1e-5"]).contains("scheme.time_step.fixed"));
     assert!(bad(&["scheme.wcsph.sound_speed_stress_factor=-1"])
         .contains("scheme.wcsph.sound_speed_stress_factor"));
-    assert!(bad(&["scheme.walls.model=\"fixed\""]).contains("wall_model"));
+    assert!(bad(&["scheme.walls.model=\"fixed\""]).contains("scheme.walls.model"));
     assert!(bad(&["scheme.free_surface.contact_rows=\"wall\""])
         .contains("scheme.free_surface.contact_rows"));
     assert!(bad(&["scheme.ppe.volume_relaxation=0.05"]).contains("scheme.ppe.volume_relaxation"));
@@ -182,11 +182,11 @@ end_time = 5.0
 
 /// Monaghan's artificial viscosity is a Newtonian one in a shear flow, and the seed's
 /// (Wróblewski et al. 2008, eq. (10), v0 = 0.3) a shear-thickening one. Measured: Monaghan
-/// u_c = 1.993 (ν_eff = 0.502), shape 0.746 by the README's interpolation; eq. (10)
+/// u_c = 1.993 (ν_eff = 0.502), shape 0.746 by the validation pages' interpolation; eq. (10)
 /// u_c = 1.301, shape 0.696. Bounds: the Monaghan shape within 2 % of the parabola's (linear
 /// interpolation between rows reads a parabola 0.4 % low); eq. (10) more viscous by a
 /// third at least (u_c < 0.75 × Monaghan's) and more pointed than the parabola by 4 % at
-/// least. Run beside each other at H/δr = 30, the effective viscosity halves (README).
+/// least. Run beside each other at H/δr = 30, the effective viscosity halves (validation pages).
 #[test]
 fn the_seeds_artificial_viscosity_thickens_with_the_pair_speed() {
     let (uc_m, shape_m) = artificial_channel(None);

@@ -1,6 +1,6 @@
 //! Wetting (`scene.contact_angle`): a sessile drop at rest takes the circular cap that meets
 //! the plate at the prescribed angle, and a pool rises at a vertical wall by the exact 2D
-//! meniscus height, at resolutions CI can afford; the resolution studies are in the README.
+//! meniscus height, at resolutions CI can afford; the resolution studies are in the validation pages.
 
 mod common;
 use common::{run_quiet, shipped, summary_section};
@@ -97,7 +97,7 @@ fn a_drop_wetting_by_attraction_spreads_with_its_foot_held_off_the_plate() {
 /// surface at the walls stands ℓ_c √(2(1 − sin θ)) = 0.2588 above the far level (Landau &
 /// Lifshitz §61). Measured here 0.2545 (−1.7 %; 0.2613 with g in the predictor); in the
 /// shipped tank (6 wide, to t = 20) +0.3 % (+6.4 % with g in the predictor, −0.5 % at
-/// ℓ_c/δr = 25), the excess in the first two columns (README). Bound 12 %: the tank's sloshing
+/// ℓ_c/δr = 25), the excess in the first two columns (validation pages). Bound 12 %: the tank's sloshing
 /// moves the rise by ±2 % over the averaged half, and without the condition the surface
 /// stays flat.
 #[test]
@@ -156,7 +156,7 @@ fn the_tank_walls_angle_is_validated() {
 /// operator reproduces, so nothing is left to move it but the solves' residuals (measured:
 /// level moved 4.7e-7, speeds ≤ 8.5e-7). Bounds: the level within δr/40 = 1e-3, every speed
 /// below 1e-4 (a ten-thousandth of √(gD)). With g in the predictor (the paper's) the same
-/// tank swells by 0.046 (README, *Still water*); the test checks it moves more than 10× the
+/// tank swells by 0.046 (validation pages, *Still water*); the test checks it moves more than 10× the
 /// bound, so that the comparison is the reduced pressure's doing. The validation refuses the
 /// reduced pressure where g·r is not single-valued.
 #[test]
