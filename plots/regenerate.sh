@@ -2,7 +2,7 @@
 # Regenerates the figures of plots/ (the paper's Poiseuille studies, the cylinder array).
 # Release build, 2 cores. The Poiseuille studies use implicit viscosity with the paper's
 # standard projection (the channel has no pressure gradient, so the two projections agree;
-# implicit viscosity is 10-20x cheaper at the same L2, see the README).
+# implicit viscosity is 10-20x cheaper at the same L2, see the validation pages).
 #   plots/regenerate.sh            # everything (a few hours)
 #   plots/regenerate.sh poiseuille # the Poiseuille studies only (about 1.5 h)
 #   plots/regenerate.sh cylinders  # the cylinder array and the confined cylinder

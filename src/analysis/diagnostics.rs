@@ -127,7 +127,7 @@ fn extreme_location(
 /// (i itself left out). A smooth field contributes O(h²|∇² ln tr A|) (the symmetric mean
 /// cancels its linear part); an odd–even pattern contributes its full amplitude. Under the
 /// central remap it grows without bound at Wi ≥ 4 in the cylinder array and saturates with
-/// the upwind one (README, *High Weissenberg number*). NaN without a conformation (Newtonian
+/// the upwind one (validation pages, *High Weissenberg number*). NaN without a conformation (Newtonian
 /// fluids) and 0 when no particle has a neighbour.
 pub fn conformation_noise(
     domain: &crate::engine::neighbours::Domain,

@@ -10,7 +10,7 @@
 //!   the same; discretely they differ where the split is not neutral:
 //!   - a liquid at rest has P constant, which every operator reproduces exactly, where the
 //!     hydrostatic p is linear, and Morris's Laplacian (21) is not exact for a linear field
-//!     on a support a free surface truncates (README, *Still water*);
+//!     on a support a free surface truncates (validation pages, *Still water*);
 //!   - with implicit viscosity the no-slip mirrors act on u*, which with g in the predictor
 //!     carries the free-fall increment δt g: next to a wall the solve damps it, the projection
 //!     then removes all of it, and the wall's first particles gain up to δt g each step (a

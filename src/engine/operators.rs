@@ -548,7 +548,7 @@ fn morris_weight(r: &Vec2, grad_hat: &Vec2, dv: f64) -> f64 {
 /// corrected gradient: the hydrostatic pressure, linear, then satisfies both the PPE and
 /// the momentum balance. With (21) alone the PPE's solution bends near the surface, and a
 /// pool at rest kept a divergence of up to 0.03 per unit time under its surface and rose
-/// 16 % in 20 time units (README, *Still water*).
+/// 16 % in 20 time units (validation pages, *Still water*).
 fn linear_exact_row(weights: &mut [f64], grad_hat: &[Vec2], rij: &[Vec2], dv: f64) {
     let b: Vec2 = weights.iter().zip(rij).map(|(w, r)| *w * r).sum();
     for (w, g) in weights.iter_mut().zip(grad_hat) {

@@ -453,7 +453,7 @@ impl PpeSettings {
 #[serde(rename_all = "kebab-case")]
 pub enum PreconditionerChoice {
     /// Jacobi, turning to AMG within a solve that Jacobi does not finish in 40 iterations
-    /// (see the README's speed section).
+    /// (see the validation pages' speed section).
     Auto,
     Jacobi,
     Amg,

@@ -94,7 +94,7 @@ impl Shifting {
     /// other, ∇C points away from the nearer wall's far side, and the shift walks the
     /// particles left in the gap through it. Measured: a disc settling onto the floor under
     /// lubrication (R/δr = 8, gap 0.57δr) lost the particle under it through the floor, at
-    /// ~0.004 a step with its velocity pointing up (README, *Rigid discs*).
+    /// ~0.004 a step with its velocity pointing up (validation pages, *Rigid discs*).
     pub fn keep_off_walls(mut self, reach: f64) -> Self {
         self.keep_off = Some(reach);
         self

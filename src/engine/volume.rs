@@ -30,7 +30,7 @@
 //! their truncation. With full rows alone the column held 6–7 % more particles than its surface
 //! encloses and `gap_mean_rise` stood 15 % short of Jurin's depth while the surface stood 5 %
 //! short; with NS rows taking the compressive part the two measures agree within 2.5 %
-//! (README, *Capillarity*).
+//! (validation pages, *Capillarity*).
 
 use crate::engine::kernel::QuinticSpline;
 use crate::engine::neighbours::NeighbourList;

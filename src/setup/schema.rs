@@ -167,7 +167,7 @@ pub struct SchemeSpec {
     pub frame: Frame,
     /// Fickian shifting (with `wcsph` the density is then carried by the ALE term u_ps·∇ρ).
     /// On by default for both methods: without it the weakly compressible channel breaks
-    /// down by t ≈ 1 (README); Fang et al.'s drop, which had none, sets it off.
+    /// down by t ≈ 1 (validation pages); Fang et al.'s drop, which had none, sets it off.
     pub shifting: bool,
     /// `explicit` (the paper) or `implicit` solvent and EVSS viscosity.
     pub viscosity: Viscosity,
@@ -209,7 +209,7 @@ impl Default for SchemeSpec {
             frame: Frame::Lagrangian,
             shifting: true,
             viscosity: Viscosity::Explicit,
-            // Well below the O(δt) splitting error (README, *Speed*).
+            // Well below the O(δt) splitting error (validation pages, *Speed*).
             viscous_tolerance: 1e-10,
             gravity: GravityChoice::Auto,
             projection: ProjectionChoice::Auto,

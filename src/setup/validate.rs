@@ -151,7 +151,7 @@ pub fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
     if scheme.surface_tension.form == SurfaceTensionForm::Cohesion
         && scheme.method == Method::Projection
     {
-        // README, *Cohesion*: the projection's Dirichlet rows carry none of the cohesive
+        // validation pages, *Cohesion*: the projection's Dirichlet rows carry none of the cohesive
         // pressure, and a static drop's surface ring drifted out until it broke down.
         return Err(field_err(
             "scheme.surface_tension.form",
@@ -488,7 +488,7 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
 }
 
 /// `scheme.gravity`: `auto` is the reduced pressure in a pool, where a liquid rests on walls
-/// (with g in the predictor a pool at rest swells and climbs its walls: README, *Still
+/// (with g in the predictor a pool at rest swells and climbs its walls: validation pages, *Still
 /// water*), and the paper's predictor elsewhere. `reduced-pressure` needs g·r single-valued
 /// and fixed in time (see `engine::gravity`).
 fn gravity(s: &SchemeSpec, scene: &dyn Scene) -> Result<Gravity, FieldError> {

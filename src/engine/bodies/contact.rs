@@ -8,7 +8,7 @@
 //! * [`Repulsion::Quadratic`], F = F₀ (1 − s/ℓ)² for gaps s below the range ℓ. Without
 //!   lubrication ℓ must exceed a kernel support: the run stops below one (mirrors of a
 //!   gap narrower than the support miss the fluid beyond it), so this force, not the flow,
-//!   sets the closest approach (README, *Rigid discs*).
+//!   sets the closest approach (validation pages, *Rigid discs*).
 //! * [`Repulsion::Exponential`], the seed's eq. (9), F = F₀ τ e^{−τs}/(1 − e^{−τs}) with a
 //!   decay length 1/τ fixed in units of the radius (their nearly hard spheres: 1/τ = 0.001a …
 //!   0.05a), so that the contact does not change with δr.

@@ -28,7 +28,7 @@
 //! coupling is stable for M < m + 2m_a. A lone disc (M ≈ ρ_f πR²) is stable for any ρ_s ≥ ρ_f;
 //! rows of discs in a closed box, moving against each other, squeeze the fluid between them
 //! and have a larger M: twelve discs at ρ_s = 2ρ_f (M ≈ 4ρ_f πR² there) alternated their
-//! forces step by step with c_a = 1 and settle with c_a = 3 (README). m_a vanishes at a
+//! forces step by step with c_a = 1 and settle with c_a = 3 (validation pages). m_a vanishes at a
 //! steady state; a larger c_a only slows the approach to it. Free discs are kept to ρ_s ≥ ρ_f.
 //!
 //! Under g_s the discs settle as in a closed container: [`Bodies::hold_return_flow`] keeps

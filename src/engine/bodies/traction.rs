@@ -15,7 +15,7 @@
 //! fitted particle on it ([`other_walls`]). Without it a gap of about a spacing held one or
 //! two particles and the fit extrapolated from the particles beside it, blind to the wall a
 //! spacing away: a disc settling onto the floor (R/δr = 8, gap 1.1δr) felt a tangential force
-//! along its own velocity, ≈ +1 000 V, and rolled away, its speed doubling every step (README,
+//! along its own velocity, ≈ +1 000 V, and rolled away, its speed doubling every step (validation pages,
 //! *Rigid discs*). Gaps wider than a support (every fixed body and every disc kept a support
 //! apart) are unchanged.
 

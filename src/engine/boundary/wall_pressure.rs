@@ -11,7 +11,7 @@
 //! and next to a curved wall n·∇·τ_p is the polymer's hoop stress T/R (T the tension along
 //! the streamlines wrapped round it): at the Wi = 4 cylinder array (R/δr = 9) it reached
 //! 2 000–4 800 (in units of ρU²/R) on the particles that later crossed the cylinder, and the
-//! pressure gradient that balanced it 1.2δr from the wall fell to zero 0.6δr from it (README,
+//! pressure gradient that balanced it 1.2δr from the wall fell to zero 0.6δr from it (validation pages,
 //! *High Weissenberg number*). Adami, Hu & Adams (2012) put the body force (and the wall's
 //! acceleration) into the wall pressure for the same reason.
 //!
@@ -72,7 +72,7 @@ impl Ghosts {
     /// of the projected parent only with this term. Without it the first layer keeps a
     /// divergence the solve cannot remove; in a pool at rest (g = 1, depth 0.8, δr = 0.04)
     /// the offsets lifted the bottom row off the floor and the pool rose 13 % in 20 time
-    /// units (README, *Still water*). Nothing to do without offsets.
+    /// units (validation pages, *Still water*). Nothing to do without offsets.
     pub fn continue_force(&self, dt_over_rho: f64, velocity_ext: &mut [Vec2]) {
         if self.normal_force.is_empty() {
             return;

@@ -22,12 +22,12 @@
 //!
 //! which sets S from `fluid.surface_tension`. The discrete sum over a disordered particle
 //! cloud is not the integral, so the σ the scheme actually has is measured by the Laplace
-//! test (drops of three radii, p_in = p_0 + σ_eff/R; README). The same force pulls the
+//! test (drops of three radii, p_in = p_0 + σ_eff/R; validation pages). The same force pulls the
 //! particles near a free surface inward with a cohesive pressure that a flat surface
 //! already has, K = (π/2) S ∫₀^∞ r² b(r) dr (the mean field's a n²). The force is
 //! conservative, f = −∇U with U = S∫B(|x − y|)dy (B' = b), so a drop's interior carries
 //! p_in = p_s + K + σ/R to first order in r_c/R. K is some 16 times σ/R, and the
-//! projection's Dirichlet surface rows cannot hold it (README): the variant is for the
+//! projection's Dirichlet surface rows cannot hold it (validation pages): the variant is for the
 //! weakly compressible scheme, as in the seed.
 //!
 //! Wetting (the seed's fluid–wall attraction). The cohesion sum runs over fluid particles

@@ -7,7 +7,7 @@
 //! polymer stress are sums of antisymmetric pair terms and keep both; the projection's
 //! corrected pressure gradient (20)–(22) on the Dirichlet values of (35a) is not, and on a
 //! body of surface particles it leaves a net force (a blob of 16 particles thrown off the
-//! Wi = 1/3 jet sped up along x at 4g with no force along x, README *Free surfaces*). Its
+//! Wi = 1/3 jet sped up along x at 4g with no force along x, validation pages, *Free surfaces*). Its
 //! antisymmetric form conserves momentum but, as the projection's gradient, made every
 //! free-surface run unstable.
 //!

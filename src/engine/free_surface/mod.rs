@@ -74,7 +74,7 @@ pub enum SurfaceTensionForm {
 /// pressure is the Dirichlet value of (35a), so its wall-normal motion meets only the
 /// viscous drag of its own mirror (u_j = −u_i), a drag and not a constraint. Measured on the
 /// jet (Oldroyd-B, Wi = 5/3, D/δr = 20): after impact the two contact-line particles crept
-/// from 0.5δr to the plate in 0.04 s, one crossing it at t = 0.2335 s (README, jets).
+/// from 0.5δr to the plate in 0.04 s, one crossing it at t = 0.2335 s (validation pages, jets).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum ContactRows {
@@ -104,7 +104,7 @@ pub enum ContactRows {
 /// (36) is a threshold: a particle whose ⟨∇·r⟩ crosses it changes its PPE row from the
 /// Poisson equation to the Dirichlet value of (35a) with σκ in one step, and enters its
 /// neighbours' curvature fits at full weight. Measured on `cases/capillary-rise.toml` (θ =
-/// 30°, README): a particle under a steep meniscus that crossed it without moving went from
+/// 30°, validation pages): a particle under a steep meniscus that crossed it without moving went from
 /// p = −0.36 to −3.48 and its outer neighbour's fitted value from −0.36 to +4.05 in that
 /// step; the largest speed went from 0.03 to 0.51 five steps later.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -122,7 +122,7 @@ pub enum SurfaceIndicator {
     ///
     /// Blending the Dirichlet value in time instead, `s·p_D + (1 − s)·pⁿ` with a Dirichlet
     /// row, was measured first and dropped: a particle hovering on the threshold (s ≤ 0.015)
-    /// relaxed towards its own, wrong, p_D over hundreds of steps (README).
+    /// relaxed towards its own, wrong, p_D over hundreds of steps (validation pages).
     Blended,
 }
 
@@ -132,7 +132,7 @@ pub enum SurfaceIndicator {
 /// particle that hovered there at θ = 60° (`cases/capillary-rise.toml`). At 0.1, 17–23 of
 /// the ~205 FS particles of the rising column lay on it, half of them below s = ½: surface
 /// particles whose half-Poisson rows let the pool be kicked (speeds 0.8–0.96 by t = 4, the
-/// wall's meniscus down to 0.01 by t = 10); at 0.03, 0–7, and the rise is calm (README).
+/// wall's meniscus down to 0.01 by t = 10); at 0.03, 0–7, and the rise is calm (validation pages).
 pub const BLEND_WIDTH: f64 = 0.03;
 
 impl SurfaceIndicator {

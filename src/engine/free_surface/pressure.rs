@@ -222,7 +222,7 @@ pub fn own_side_gradient(
 /// 161 Pa to 0 beside neighbours at 150–370 Pa, was kicked from 0.2 to 0.29 m/s in one
 /// output interval, and its tr A jumped from 5 to 9.8 (L² = 10). Not the default: the
 /// Oldroyd-B jet at Wi = 1/3, which finishes with p = 0, shot a particle out of the box
-/// with it (README, *Jets*).
+/// with it (validation pages, *Jets*).
 pub fn sparse_surface_pressure(
     out: &mut [f64],
     list: &NeighbourList,

@@ -28,7 +28,7 @@
 //! from it (d its distance from the wall): 3.8δr at θ = 30° and d = 0.95δr, at the edge of
 //! the support, where W is nearly zero. There a surface meeting the wall flat (90°, an
 //! error of 60°) gets no pull at all, and the 30° capillary rise drained under a meniscus
-//! whose low contact line had gone flat (README, *What drains the 30° column*). With
+//! whose low contact line had gone flat (validation pages, *What drains the 30° column*). With
 //! [`ContactCurvature::Turn`] c takes instead the curvature of the circle that leaves the
 //! wall at θ and passes through its surface neighbours ([`ContactLine::turned_curvature`]),
 //! which grows with the angle's error at any error.
@@ -38,7 +38,7 @@
 //! at θ, the centres' curve puts that surface at another angle, cos θ_s = cos θ/(1 + κ_c δr/2)
 //! on a circle: 20.6° for 30° between plates 10δr apart, where the column stood 12 % above
 //! Jurin's height and the FS pressure under its meniscus 11–23 % above σ times the curvature
-//! of the centres' circle (README, *The angle at the surface*). With
+//! of the centres' circle (validation pages, *The angle at the surface*). With
 //! [`ContactAngleAt::Surface`] each contact line is turned to θ_c of its particle's curvature
 //! before the fits use it ([`ContactLine::for_curvature`]).
 

@@ -6,7 +6,7 @@
 //! gradient, so the stress never resists it; in a strongly stretched layer the only
 //! restoring force at that scale is the EVSS difference α_V η0 (∇² − ∇·2D), whose coefficient
 //! does not grow with the stretch. The start-up of a UCM liquid (β = 0, α_V = 0.01,
-//! H/δr = 30, Wi = 32) grows such a mode in the sheared wall layers (README, *High
+//! H/δr = 30, Wi = 32) grows such a mode in the sheared wall layers (validation pages, *High
 //! Weissenberg number*) and breaks down at t ≈ 9.
 //!
 //! Following Wu, Zhang, Tang & Hu (2024) and Zhang, Wu, Lourenço & Hu (2024), who control
@@ -26,7 +26,7 @@
 //! rule bounds (`elastic_courant` in `series.csv`). In the UCM channel that number stays
 //! under 1.9 (ν δt/h² ≤ 0.38 at the case's ξ = 0.2); where a large implicit viscosity lets
 //! the rule reach 6.4 (the cylinder array) it is 1.3 at ξ = 0.2, which the array at Wi = 4
-//! ran through with the same stress noise as without the control (README).
+//! ran through with the same stress noise as without the control (validation pages).
 
 use crate::engine::math::{Mat2, Sym2, Vec2};
 use crate::engine::neighbours::NeighbourList;
