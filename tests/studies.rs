@@ -65,8 +65,14 @@ fn stability_study_records_a_forced_breakdown() {
     )
     .unwrap();
     assert_eq!(rows.len(), 2);
-    let ok = rows.iter().find(|r| r.variant == "time_step.factor=0.2").unwrap();
-    let bad = rows.iter().find(|r| r.variant == "time_step.factor=8").unwrap();
+    let ok = rows
+        .iter()
+        .find(|r| r.variant == "time_step.factor=0.2")
+        .unwrap();
+    let bad = rows
+        .iter()
+        .find(|r| r.variant == "time_step.factor=8")
+        .unwrap();
     assert_eq!(ok.outcome, study::stability::Result3::Stable);
     assert_eq!(bad.outcome, study::stability::Result3::BrokeDown);
     assert!(bad.t_breakdown.unwrap() < 2.0 && bad.reason.is_some());

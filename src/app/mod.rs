@@ -6,6 +6,7 @@ pub mod bench_solvers;
 pub mod cli;
 pub mod compare;
 pub mod io;
+pub mod keys;
 pub mod plot;
 pub mod rheometry;
 pub mod run;

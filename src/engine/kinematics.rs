@@ -30,7 +30,9 @@ use crate::engine::operators::KernelSums;
 
 /// The velocity gradient of the constitutive update (see
 /// [`crate::engine::kinematics::ConstitutiveGradient`]).
-#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[derive(
+    Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum GradientChoice {
     /// `solenoidal` in closed domains, `wall-normal-even` with free surfaces.

@@ -24,7 +24,7 @@ use serde::{Deserialize, Serialize};
 
 /// `[scheme.neighbours]`: the neighbour search and the particles' order in memory. Results do
 /// not depend on them, only the time per step.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct NeighbourSettings {
     /// The Verlet skin in units of δr (0: a cell search every step; unset: [`default_skin`]).

@@ -29,7 +29,9 @@ pub enum DivergenceForm {
 
 /// Consistency of the corrected gradient ∇Ŵ_ij that every first-derivative operator of
 /// eq. (20) reads (the gradients, the negative divergence form, the advective derivative).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum GradientOrder {
     /// Bonet–Lok, eq. (22): exact for linear fields, error O(δr) on a disordered set.
@@ -43,7 +45,9 @@ pub enum GradientOrder {
 }
 
 /// Consistency of the Laplacian (21) in the PPE, the viscous term and their matrices.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum LaplacianOrder {
     /// Morris et al. (1997), eq. (21), with the corrected gradient of the first order:
@@ -58,7 +62,9 @@ pub enum LaplacianOrder {
 }
 
 /// The Laplacian of the PPE's rows.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum PpeLaplacian {
     /// The viscous term's Laplacian (21) ([`LaplacianOrder`]).
@@ -73,7 +79,9 @@ pub enum PpeLaplacian {
 
 /// `[scheme.operators]`: the gradient's and the Laplacian's order (and the PPE's Laplacian,
 /// which `[scheme.ppe]` names).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(deny_unknown_fields, default)]
 pub struct OperatorSettings {
     /// `first` (Bonet–Lok, eq. (22)) or `second` (exact for quadratic fields, after Nasar et

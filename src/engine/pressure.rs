@@ -383,7 +383,7 @@ pub fn wall_pressure_rhs(
 }
 
 /// `[scheme.ppe]`: how the PPE (25) is built and solved.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct PpeSettings {
     /// `auto` (sparse LU for fixed particles, BiCGStab with an LU fallback when they move),
@@ -449,7 +449,7 @@ impl PpeSettings {
 }
 
 /// BiCGStab's preconditioner.
-#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum PreconditionerChoice {
     /// Jacobi, turning to AMG within a solve that Jacobi does not finish in 40 iterations
@@ -471,7 +471,7 @@ impl PreconditionerChoice {
 }
 
 /// Which linear solver the PPE uses.
-#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum PpeSolver {
     /// Sparse LU, factorised once, for fixed particles (Eulerian); warm-started BiCGStab with

@@ -130,7 +130,7 @@ impl FluidSpec {
 
 /// How the projection treats the pressure of the previous step (see
 /// [`crate::engine::projection`]).
-#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum ProjectionChoice {
     /// `incremental` with implicit viscosity past a body (a cylinder), `standard` otherwise.
@@ -140,7 +140,7 @@ pub enum ProjectionChoice {
 }
 
 /// Where a uniform body force enters (see [`crate::engine::gravity`]).
-#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum GravityChoice {
     /// `reduced-pressure` in a pool (a liquid resting on walls), `predictor` elsewhere.
@@ -150,7 +150,7 @@ pub enum GravityChoice {
 }
 
 /// The time integrator (`scheme.method`).
-#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum MethodChoice {
     /// King & Lind's projection (incompressible SPH).
@@ -159,7 +159,7 @@ pub enum MethodChoice {
     Wcsph,
 }
 
-#[derive(Clone, Debug, Serialize, Deserialize)]
+#[derive(Clone, Debug, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct SchemeSpec {
     /// `isph` (the projection, default) or `wcsph`.
@@ -227,9 +227,10 @@ impl Default for SchemeSpec {
     }
 }
 
-#[derive(Clone, Debug, Serialize, Deserialize)]
+#[derive(Clone, Debug, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RunSpec {
+    /// The time the run ends at (the case's units).
     pub end_time: f64,
     /// Time between rows of `series.csv` (default end_time/300).
     pub output_interval: Option<f64>,
@@ -248,13 +249,17 @@ pub struct RunSpec {
 /// `[run.steady]`: ⟨u⟩ (or, with the mean flow held, the body force) varying by less than
 /// `tolerance` (relative) over `window` time units, but never fewer than the relaxation time
 /// λ, then averages over `average` time units (King & Lind: 2 % over 1, then 3).
-#[derive(Clone, Debug, Serialize, Deserialize)]
+#[derive(Clone, Debug, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SteadySpec {
+    /// The relative variation of ⟨u⟩ (or of the held mean flow's body force) below which the
+    /// flow counts as steady.
     #[serde(default = "default_steady_tolerance")]
     pub tolerance: f64,
+    /// The time window over which the variation is measured (never shorter than λ).
     #[serde(default = "default_steady_window")]
     pub window: f64,
+    /// The time over which the steady quantities are then averaged before the run stops.
     #[serde(default = "default_steady_average")]
     pub average: f64,
 }

@@ -48,6 +48,12 @@ pub enum Command {
     /// Run many variants of a case: convergence, stability map, speed against accuracy.
     #[command(subcommand)]
     Study(StudyCommand),
+    /// Every key of `[scheme]` and `[run]` with its meaning, values and default, from the code.
+    Keys {
+        /// As the Markdown page `docs/src/reference/scheme-keys.md` (else `key = default`).
+        #[arg(long)]
+        markdown: bool,
+    },
 }
 
 /// Exit code of a command that did what it was asked.
@@ -147,6 +153,18 @@ fn dispatch(cli: Cli) -> anyhow::Result<u8> {
         }
         Command::CompareCentrelines(args) => {
             crate::app::compare::compare_centrelines(&args.runs, &args.labels, &args.out)?;
+            Ok(EXIT_FINISHED)
+        }
+        Command::Keys { markdown } => {
+            let text = if markdown {
+                crate::app::keys::markdown()
+            } else {
+                let rows = crate::app::keys::rows();
+                rows.iter()
+                    .map(|r| format!("{} = {}\n", r.key, r.default))
+                    .collect()
+            };
+            print!("{text}");
             Ok(EXIT_FINISHED)
         }
         Command::Check(args) => {

@@ -42,7 +42,9 @@ pub trait WallCondition: fmt::Debug + Send + Sync {
 }
 
 /// How a tensor is carried onto a no-slip wall's mirror particle.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum TensorMirror {
     /// `A_j = A_i + (r_j − r_i)·∇A_i`, ∇ the Bonet–Lok gradient over the parent's fluid

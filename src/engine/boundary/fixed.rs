@@ -17,7 +17,9 @@ use crate::engine::neighbours::Domain;
 use serde::{Deserialize, Serialize};
 
 /// How the particles behind a wall are placed.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum WallModel {
     /// Every fluid particle within a kernel support of a wall is mirrored across it

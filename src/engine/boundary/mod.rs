@@ -29,7 +29,9 @@ use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
 /// `[scheme.walls]`: the particles behind walls and the fields they carry.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(deny_unknown_fields, default)]
 pub struct WallSettings {
     /// `mirror` or `fixed-ghost`: how the particles behind plane walls are placed.
@@ -51,7 +53,9 @@ pub struct WallSettings {
 }
 
 /// How no-slip walls extend the velocity to their ghosts.
-#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[derive(
+    Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum WallVelocityChoice {
     /// `quadratic` where the fluid fills the walls' neighbourhoods and its viscosity is

@@ -32,7 +32,9 @@ use crate::engine::math::Vec2;
 use serde::{Deserialize, Serialize};
 
 /// The Neumann condition of the wall pressure.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum WallPressure {
     /// `p_j = p_i` (King & Lind): ∂p/∂n = 0.

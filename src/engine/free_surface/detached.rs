@@ -24,7 +24,9 @@ use crate::engine::neighbours::{Domain, NeighbourList};
 use serde::{Deserialize, Serialize};
 
 /// Whether a detached body's momentum is kept (`scheme.free_surface.detached_momentum`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum DetachedMomentum {
     /// Each detached body's net impulse and torque of the step removed (module docs).

@@ -54,7 +54,9 @@ use crate::engine::rheology::Fluid;
 use serde::{Deserialize, Serialize};
 
 /// How a surface tension acts (`scheme.surface_tension.form`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum SurfaceTensionForm {
     /// The capillary jump σκ in the free-surface pressure's normal-stress balance
@@ -75,7 +77,9 @@ pub enum SurfaceTensionForm {
 /// viscous drag of its own mirror (u_j = −u_i), a drag and not a constraint. Measured on the
 /// jet (Oldroyd-B, Wi = 5/3, D/δr = 20): after impact the two contact-line particles crept
 /// from 0.5δr to the plate in 0.04 s, one crossing it at t = 0.2335 s (validation pages, jets).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum ContactRows {
     /// Every surface particle takes its Dirichlet row (the paper's).
@@ -107,7 +111,9 @@ pub enum ContactRows {
 /// 30°, validation pages): a particle under a steep meniscus that crossed it without moving went from
 /// p = −0.36 to −3.48 and its outer neighbour's fitted value from −0.36 to +4.05 in that
 /// step; the largest speed went from 0.03 to 0.51 five steps later.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum SurfaceIndicator {
     /// FS or not, by (36) (the paper's).
@@ -146,7 +152,7 @@ impl SurfaceIndicator {
 }
 
 /// `[scheme.free_surface]`: the free-surface condition and how its rows are built.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct FreeSurfaceSettings {
     /// `normal-stress` (35a, the paper's), `normal-stress-neighbours` or `zero` Dirichlet

@@ -23,7 +23,9 @@ use serde::{Deserialize, Serialize};
 pub(crate) const MIN_SURFACE_NEIGHBOURS: usize = 12;
 
 /// The rule named in a case file (`scheme.free_surface.pressure`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum SurfacePressure {
     /// King & Lind's normal-stress balance (35a): p = 2η_s n·D·n + n·τ_p·n; p = 0 on sparse
@@ -37,7 +39,9 @@ pub enum SurfacePressure {
 }
 
 /// Which neighbours the velocity gradient of (35a) is taken over (`scheme.free_surface.gradient`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum SurfaceGradient {
     /// The corrected gradient (20) over the whole support, as everywhere else (the paper's).

@@ -36,7 +36,9 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// The viscous term's tangential flux through a free surface (`scheme.free_surface.shear`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum SurfaceShear {
     /// None: the truncated Laplacian of (21), which imposes ∂u_t/∂n = 0 (the paper's).

@@ -49,7 +49,9 @@ use serde::{Deserialize, Serialize};
 
 /// `[scheme.surface_tension]`: how a surface tension acts and where in the step its
 /// curvature is taken.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(deny_unknown_fields, default)]
 pub struct SurfaceTensionSettings {
     /// `normal-stress` (the capillary jump σκ in the free-surface pressure) or `cohesion`
@@ -62,7 +64,9 @@ pub struct SurfaceTensionSettings {
 
 /// Where in the step the capillary pressure's curvature is taken
 /// (`scheme.surface_tension.time_level`; module docs).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum CapillaryTimeLevel {
     /// At r* = rⁿ + δt uⁿ (23), with every other force of the step: damps a mode of

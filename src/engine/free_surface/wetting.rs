@@ -68,7 +68,9 @@ const EXPOSED_REACH: f64 = 2.5;
 
 /// How the contact particle's own curvature is found (`scheme.wetting.curvature`; module
 /// docs).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum ContactCurvature {
     /// Its parabola, fitted to the real surface and its continuation beyond the wall, as for
@@ -81,7 +83,9 @@ pub enum ContactCurvature {
 }
 
 /// `[scheme.wetting]`: how a contact angle acts on the surface's shape (module docs).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(deny_unknown_fields, default)]
 pub struct WettingSettings {
     /// `fit` (the contact particle's parabola over the real surface and its continuation
@@ -95,7 +99,9 @@ pub struct WettingSettings {
 }
 
 /// Which curve meets the wall at θ (`scheme.wetting.angle_at`; module docs).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum ContactAngleAt {
     /// The curve through the FS particles' centres.

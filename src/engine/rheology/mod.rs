@@ -29,7 +29,7 @@ pub use remap::Remap;
 use serde::{Deserialize, Serialize};
 
 /// `[scheme.conformation.form]`: how the conformation tensor is updated.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct ConformationSettings {
     /// `log` (log-conformation, §III B) or `direct` (first-order Euler on A, eq. (10)).
@@ -74,7 +74,9 @@ impl ConformationSettings {
 }
 
 /// The conformation update's order in time (`scheme.conformation.integrator`).
-#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[derive(
+    Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum IntegratorChoice {
     /// `strang` with Crank–Nicolson viscosity (a second-order step needs both), else
@@ -91,7 +93,9 @@ pub enum IntegratorChoice {
 
 /// The ALE remap of the conformation (`scheme.conformation.remap`; see
 /// [`remap`]).
-#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[derive(
+    Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum RemapChoice {
     /// `second-order` in the Eulerian frame (the remap is the whole transport, and the

@@ -42,7 +42,7 @@ use serde::{Deserialize, Serialize};
 pub use shear_dependent::ShearDependentViscosity;
 
 /// How the viscous term of the predictor is integrated.
-#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum Viscosity {
     /// Explicit, as in the paper: δt ≤ 0.2ρh²/η0.
@@ -109,7 +109,7 @@ const ELASTIC_MARGIN: f64 = 0.8;
 const DT_FACTOR_OF_28: f64 = 0.2;
 
 /// `[scheme.time_step]`: the stability rules' factor, or a fixed step.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct TimeStepSettings {
     /// The factor 0.2 of the time-step rule (28), applied to every limit.

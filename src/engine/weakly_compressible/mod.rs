@@ -45,7 +45,7 @@ pub const DENSITY_DEVIATION_LIMIT: f64 = 0.25;
 
 /// `[scheme.wcsph]`: the weakly compressible scheme's settings as a case file writes them (read
 /// with `scheme.method = "wcsph"`); [`WeaklyCompressible`] is what the step uses.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct WcsphSettings {
     /// The speed of sound c (unset: from `mach`, see [`sound_speed_for`]).
