@@ -10,10 +10,9 @@
 
 use super::{run_all, Base, Variant};
 use crate::app::plot::FigureFormat;
-use crate::app::plot::{self, Chart, Curve, CurveStyle};
+use crate::app::plot::{self, style, Chart, Curve, CurveStyle};
 use crate::app::run::Outcome;
 use anyhow::{Context, Result};
-use plotters::style::RGBColor;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -168,8 +167,8 @@ pub fn replot(out: &Path, format: FigureFormat, accuracy: f64) -> Result<()> {
     map(&rows, accuracy, out, format)
 }
 
-/// Wi on a log axis, one row per variant, coloured by outcome; the variant of each row is in
-/// the legend of its largest stable Wi.
+/// Wi on a log axis, one row per variant named on the axis, the outcome as colour and marker;
+/// the legend gives each row's largest stable Wi.
 fn map(rows: &[Row], accuracy: f64, out: &Path, format: FigureFormat) -> Result<()> {
     let mut names: Vec<String> = Vec::new();
     for r in rows {
@@ -179,14 +178,14 @@ fn map(rows: &[Row], accuracy: f64, out: &Path, format: FigureFormat) -> Result<
     }
     let level = |name: &str| names.iter().position(|n| n == name).unwrap_or(0) as f64;
     let mut curves = Vec::new();
-    for (outcome, color) in [
-        (Result3::Stable, RGBColor(20, 150, 60)),
-        (Result3::Inaccurate, RGBColor(220, 140, 0)),
-        (Result3::BrokeDown, RGBColor(200, 30, 30)),
+    for (outcome, color, marker) in [
+        (Result3::Stable, style::GOOD, CurveStyle::Markers),
+        (Result3::Inaccurate, style::BETWEEN, CurveStyle::Triangles),
+        (Result3::BrokeDown, style::BAD, CurveStyle::Crosses),
     ] {
         curves.push(Curve {
             label: match outcome {
-                Result3::Stable => format!("stable (L2 <= {accuracy})"),
+                Result3::Stable => format!("stable (L2 ≤ {accuracy})"),
                 other => other.name().to_string(),
             },
             points: rows
@@ -194,7 +193,7 @@ fn map(rows: &[Row], accuracy: f64, out: &Path, format: FigureFormat) -> Result<
                 .filter(|r| r.outcome == outcome)
                 .map(|r| (r.wi, level(&r.variant)))
                 .collect(),
-            style: CurveStyle::Markers,
+            style: marker,
             color,
         });
     }
@@ -227,10 +226,10 @@ fn map(rows: &[Row], accuracy: f64, out: &Path, format: FigureFormat) -> Result<
             format!(", again at {}", again.join(", "))
         };
         curves.push(Curve {
-            label: format!("row {k}: {name}: {upto}{again}"),
+            label: format!("{}: {upto}{again}", display(name, k)),
             points: Vec::new(),
             style: CurveStyle::Line,
-            color: RGBColor(120, 120, 120),
+            color: style::PALETTE[7],
         });
     }
     // Room above the rows for the legend (three outcomes and one line per row).
@@ -242,11 +241,25 @@ fn map(rows: &[Row], accuracy: f64, out: &Path, format: FigureFormat) -> Result<
         &Chart {
             title: "Stability map".into(),
             x_label: "Wi".into(),
-            y_label: "variant (row)".into(),
+            y_label: "variant".into(),
             log_x: true,
             y_range,
+            y_categories: names
+                .iter()
+                .enumerate()
+                .map(|(k, n)| display(n, k))
+                .collect(),
             ..Default::default()
         },
         &curves,
     )
+}
+
+/// A variant's name on the map (the base case has none).
+fn display(name: &str, k: usize) -> String {
+    if name.is_empty() {
+        format!("variant {k}")
+    } else {
+        name.to_string()
+    }
 }

@@ -2,6 +2,11 @@
 //! both; the bundled DejaVu font measures the text, so no system fonts are needed.
 //!
 //! Files are rendered to a temporary name and renamed, so a chart on disk is always whole.
+//! Palette, ticks and number format are [`style`]'s.
+
+pub mod style;
+use style::Ticks;
+pub use style::PALETTE;
 
 use anyhow::{Context, Result};
 use plotters::coord::Shift;
@@ -64,7 +69,12 @@ fn render(
 pub enum CurveStyle {
     Line,
     Dashed,
+    /// Filled circles.
     Markers,
+    /// Crosses (a second kind of point that tells apart without colour).
+    Crosses,
+    /// Open triangles (a third).
+    Triangles,
 }
 
 /// One data series of a chart.
@@ -90,19 +100,9 @@ pub struct Chart {
     pub note: Option<String>,
     /// Fixed y range (after the log transform), e.g. to leave room for the legend.
     pub y_range: Option<(f64, f64)>,
+    /// A categorical y axis: row k (y = k) is named `y_categories[k]` (empty: numeric).
+    pub y_categories: Vec<String>,
 }
-
-/// A palette that survives greyscale printing reasonably.
-pub const PALETTE: [RGBColor; 8] = [
-    RGBColor(0, 0, 0),
-    RGBColor(200, 30, 30),
-    RGBColor(30, 90, 200),
-    RGBColor(20, 150, 60),
-    RGBColor(200, 120, 0),
-    RGBColor(130, 40, 160),
-    RGBColor(0, 160, 170),
-    RGBColor(140, 140, 140),
-];
 
 fn register_fonts() {
     static ONCE: Once = Once::new();
@@ -156,6 +156,11 @@ pub fn draw(path: &Path, format: FigureFormat, chart: &Chart, curves: &[Curve]) 
     if x1 - x0 < 1e-12 {
         x1 = x0 + 1.0;
     }
+    if chart.log_x {
+        // Points of a sweep (Wi, resolution) sit at the ends of the axis: keep them whole.
+        let pad = 0.04 * (x1 - x0);
+        (x0, x1) = (x0 - pad, x1 + pad);
+    }
     let pad = if y1 - y0 < 1e-12 {
         0.5
     } else {
@@ -163,14 +168,83 @@ pub fn draw(path: &Path, format: FigureFormat, chart: &Chart, curves: &[Curve]) 
     };
     let (y0, y1) = chart.y_range.unwrap_or((y0 - pad, y1 + pad));
 
-    let ranges = (x0..x1, y0..y1);
+    let axes = Axes {
+        x: (x0..x1, ticks(x0, x1, chart.log_x)),
+        y: (y0..y1, y_ticks(chart, (y0, y1))),
+    };
+    let longest = chart.y_categories.iter().map(|n| n.chars().count()).max();
+    let width = longest.map_or(800, |n| 800 + 7 * n as u32);
     render(
         path,
         format,
-        (800, 560),
-        |root| draw_curves(root, chart, curves, &data, ranges.clone()),
-        |root| draw_curves(root, chart, curves, &data, ranges.clone()),
+        (width, 560),
+        |root| draw_curves(root, chart, curves, &data, &axes),
+        |root| draw_curves(root, chart, curves, &data, &axes),
     )
+}
+
+/// The two axes of a chart: range and ticks, in the drawn coordinate.
+struct Axes {
+    x: (std::ops::Range<f64>, Ticks),
+    y: (std::ops::Range<f64>, Ticks),
+}
+
+fn ticks(lo: f64, hi: f64, log: bool) -> Ticks {
+    if log {
+        style::log_ticks(lo, hi)
+    } else {
+        style::linear_ticks(lo, hi)
+    }
+}
+
+/// A linear coordinate whose grid and labels are at the given ticks.
+struct Ticked {
+    inner: plotters::coord::types::RangedCoordf64,
+    major: Vec<f64>,
+    minor: Vec<f64>,
+}
+
+impl Ticked {
+    fn new(range: &std::ops::Range<f64>, ticks: &Ticks) -> Self {
+        Self {
+            inner: range.clone().into(),
+            major: ticks.major.clone(),
+            minor: ticks.minor.clone(),
+        }
+    }
+}
+
+impl Ranged for Ticked {
+    type FormatOption = plotters::coord::ranged1d::DefaultFormatting;
+    type ValueType = f64;
+
+    fn map(&self, value: &f64, limit: (i32, i32)) -> i32 {
+        self.inner.map(value, limit)
+    }
+
+    fn key_points<H: plotters::coord::ranged1d::KeyPointHint>(&self, hint: H) -> Vec<f64> {
+        if hint.weight().allow_light_points() {
+            self.minor.clone()
+        } else {
+            self.major.clone()
+        }
+    }
+
+    fn range(&self) -> std::ops::Range<f64> {
+        self.inner.range()
+    }
+}
+
+/// The y ticks: one per category, or numeric.
+fn y_ticks(chart: &Chart, (lo, hi): (f64, f64)) -> Ticks {
+    if chart.y_categories.is_empty() {
+        return ticks(lo, hi, chart.log_y);
+    }
+    Ticks {
+        major: (0..chart.y_categories.len()).map(|k| k as f64).collect(),
+        minor: Vec::new(),
+        step: 1.0,
+    }
 }
 
 fn draw_curves<DB: DrawingBackend>(
@@ -178,32 +252,32 @@ fn draw_curves<DB: DrawingBackend>(
     chart: &Chart,
     curves: &[Curve],
     data: &[Vec<(f64, f64)>],
-    (xs, ys): (std::ops::Range<f64>, std::ops::Range<f64>),
+    axes: &Axes,
 ) -> Result<()>
 where
     DB::ErrorType: 'static,
 {
     root.fill(&WHITE)?;
+    let ((xs, xt), (ys, yt)) = (&axes.x, &axes.y);
+    let longest = chart.y_categories.iter().map(|n| n.chars().count()).max();
     let mut cc = ChartBuilder::on(&root)
         .caption(&chart.title, ("sans-serif", 22))
         .margin(12)
         .x_label_area_size(45)
-        .y_label_area_size(70)
-        .build_cartesian_2d(xs, ys)?;
-    let (log_x, log_y) = (chart.log_x, chart.log_y);
-    let fmt = move |v: &f64, log: bool| {
-        if log {
-            format!("{:.2e}", 10f64.powf(*v))
-        } else {
-            format!("{v:.3}")
-        }
+        .y_label_area_size(longest.map_or(70, |n| 20 + 8 * n as u32))
+        .build_cartesian_2d(Ticked::new(xs, xt), Ticked::new(ys, yt))?;
+    let x_label = |v: &f64| style::label(*v, chart.log_x, xt.step);
+    let y_label = |v: &f64| match chart.y_categories.get(v.round().max(0.0) as usize) {
+        Some(name) if !chart.y_categories.is_empty() => name.clone(),
+        _ => style::label(*v, chart.log_y, yt.step),
     };
     cc.configure_mesh()
         .x_desc(&chart.x_label)
         .y_desc(&chart.y_label)
-        .x_label_formatter(&|v| fmt(v, log_x))
-        .y_label_formatter(&|v| fmt(v, log_y))
+        .x_label_formatter(&x_label)
+        .y_label_formatter(&y_label)
         .label_style(("sans-serif", 14))
+        .light_line_style(RGBColor(235, 235, 235))
         .draw()?;
     for (curve, pts) in curves.iter().zip(data) {
         let color = curve.color;
@@ -220,10 +294,27 @@ where
             CurveStyle::Markers => {
                 cc.draw_series(pts.iter().map(|&p| Circle::new(p, 4, color.filled())))?
             }
+            CurveStyle::Crosses => {
+                cc.draw_series(pts.iter().map(|&p| Cross::new(p, 5, color.stroke_width(2))))?
+            }
+            CurveStyle::Triangles => cc.draw_series(
+                pts.iter()
+                    .map(|&p| TriangleMarker::new(p, 6, color.stroke_width(2))),
+            )?,
         };
         if !curve.label.is_empty() {
+            let kind = curve.style;
             series.label(curve.label.clone()).legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                let mark = (x + 10, y);
+                match kind {
+                    CurveStyle::Markers => Circle::new(mark, 4, color.filled()).into_dyn(),
+                    CurveStyle::Crosses => Cross::new(mark, 5, color.stroke_width(2)).into_dyn(),
+                    CurveStyle::Triangles => {
+                        TriangleMarker::new(mark, 6, color.stroke_width(2)).into_dyn()
+                    }
+                    _ => PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                        .into_dyn(),
+                }
             });
         }
     }
@@ -382,7 +473,7 @@ where
     bar.configure_mesh()
         .disable_mesh()
         .disable_x_axis()
-        .y_label_formatter(&|v| format!("{v:.3e}"))
+        .y_label_formatter(&|v| style::label(*v, false, style::linear_ticks(lo, hi).step))
         .label_style(("sans-serif", 12))
         .draw()?;
     let steps = 100;
