@@ -76,7 +76,7 @@ fn drop_at_rest_stays_still() {
     assert!(moved < 1e-12, "particles moved {moved:e} m");
 }
 
-/// `scheme.ppe.volume_relaxation` (the PPE's density-invariant source, Asai et al. 2012) restores
+/// `experimental.volume_relaxation` (the PPE's density-invariant source, Asai et al. 2012) restores
 /// particle volumes that have drifted, where the paper's projection keeps them. A drop at
 /// rest (W/δr = 20, no gravity) has its inner disc, r < R/2, squeezed by 4 % towards its
 /// centre (C ≈ 1/0.96² − 1 = +8.5 %, and a sparse ring at R/2). Ideally the source removes
@@ -92,7 +92,7 @@ fn volume_relaxation_spreads_a_compressed_patch() {
     let excess = |alpha: f64| -> (f64, f64) {
         let mut setup = free_drop_setup(
             Vec2::zeros(),
-            &[format!("scheme.ppe.volume_relaxation={alpha}")],
+            &[format!("experimental.volume_relaxation={alpha}")],
         );
         let n = setup.positions.len() as f64;
         let centre = setup.positions.iter().sum::<Vec2>() / n;

@@ -113,9 +113,10 @@ fn wcsph_keys_are_validated() {
     assert!(bad(&["scheme.wcsph.sound_speed_stress_factor=-1"])
         .contains("scheme.wcsph.sound_speed_stress_factor"));
     assert!(bad(&["scheme.walls.model=\"fixed\""]).contains("scheme.walls.model"));
-    assert!(bad(&["scheme.free_surface.contact_rows=\"wall\""])
-        .contains("scheme.free_surface.contact_rows"));
-    assert!(bad(&["scheme.ppe.volume_relaxation=0.05"]).contains("scheme.ppe.volume_relaxation"));
+    assert!(bad(&["experimental.contact_rows=\"wall\""]).contains("experimental.contact_rows"));
+    assert!(
+        bad(&["experimental.volume_relaxation=0.05"]).contains("experimental.volume_relaxation")
+    );
     // 0 restores the stability rules (a case file's fixed step undone by --set).
     let o = vec!["scheme.time_step.fixed=0".to_string()];
     let case = case::parse(common::POISEUILLE, "poiseuille.toml", "p", &o).unwrap();

@@ -52,7 +52,7 @@ fn a_coarse_wetting_drop_held_off_its_plate_keeps_its_foot() {
     let coarse = [
         "run.end_time=20",
         "scene.resolution=20",
-        "scheme.free_surface.contact_rows=\"held\"",
+        "experimental.contact_rows=\"held\"",
     ];
     std::thread::scope(|s| {
         for theta in [40.0, 60.0] {
@@ -80,7 +80,7 @@ fn a_drop_wetting_by_attraction_spreads_with_its_foot_held_off_the_plate() {
             "scheme.wcsph.sound_speed=50",
             "scheme.wcsph.artificial_viscosity=0.3",
             "scheme.viscosity=explicit",
-            "scheme.free_surface.contact_rows=held",
+            "experimental.contact_rows=held",
             "run.end_time=6",
         ],
     );
@@ -142,7 +142,7 @@ fn the_tank_walls_angle_is_validated() {
     let cohesion = [
         "scene.wall_contact_angle=90",
         "scheme.method=wcsph",
-        "scheme.ppe.volume_relaxation=0",
+        "experimental.volume_relaxation=0",
         "scheme.surface_tension.form=cohesion",
     ];
     assert!(bad(&cohesion).contains("scene.wall_contact_angle"));

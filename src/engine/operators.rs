@@ -93,7 +93,7 @@ pub struct OperatorSettings {
     #[serde(rename = "laplacian")]
     pub laplacian_order: LaplacianOrder,
     /// The PPE's Laplacian: (21) as `laplacian_order` has it, or made exact for linear fields
-    /// (`scheme.ppe.laplacian`).
+    /// (`experimental.ppe_laplacian`).
     #[serde(skip)]
     pub ppe_laplacian: PpeLaplacian,
 }

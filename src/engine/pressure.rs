@@ -404,9 +404,13 @@ pub struct PpeSettings {
     /// α of the density-invariant source, the fraction of a particle's concentration error
     /// the projection removes per step (0: off, the paper's projection;
     /// [`crate::engine::volume`]).
+    /// Read from `[experimental]` (`setup::experimental`), not from this table.
+    #[serde(skip)]
     pub volume_relaxation: f64,
     /// `standard` (the Laplacian of `scheme.operators.laplacian`) or `linear-exact` (made
     /// exact for linear fields where the support is truncated): the PPE's Laplacian.
+    /// Read from `[experimental]` (`setup::experimental`), not from this table.
+    #[serde(skip)]
     pub laplacian: PpeLaplacian,
 }
 

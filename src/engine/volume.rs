@@ -4,7 +4,7 @@
 //! The projection keeps ∇·u = 0, but the discrete divergence is not exactly the rate of
 //! change of a particle's volume, and nothing restores a volume once it has drifted: in a
 //! pool near rest the free-surface shift (41) is proportional to the speed, so it stops
-//! too. With `scheme.ppe.volume_relaxation` = α > 0, row i of the PPE asks for a divergence
+//! too. With `experimental.volume_relaxation` = α > 0, row i of the PPE asks for a divergence
 //! that removes a fraction α of the particle concentration's error per step,
 //!
 //! ```text
@@ -49,7 +49,7 @@ pub enum RowSupport {
 }
 
 /// The relaxation of the particle concentration towards the lattice's, chosen at set-up
-/// (`scheme.ppe.volume_relaxation` > 0).
+/// (`experimental.volume_relaxation` > 0).
 #[derive(Clone, Copy, Debug)]
 pub struct VolumeRelaxation {
     /// α: the fraction of the concentration error the PPE removes per step.

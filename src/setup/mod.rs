@@ -8,6 +8,7 @@
 pub mod case;
 pub mod derived;
 pub mod error;
+pub mod experimental;
 pub mod overrides;
 pub mod renamed;
 pub mod scenes;

@@ -35,8 +35,8 @@ pub const RENAMED: &[Renamed] = &[
     moved("scheme.ppe_divergence_tolerance",      "scheme.ppe.divergence_tolerance"),
     moved("scheme.ppe_max_iterations",            "scheme.ppe.max_iterations"),
     moved("scheme.ppe_warm_start",                "scheme.ppe.warm_start"),
-    moved("scheme.volume_relaxation",             "scheme.ppe.volume_relaxation"),
-    moved("scheme.ppe_laplacian",                 "scheme.ppe.laplacian"),
+    moved("scheme.volume_relaxation",             "experimental.volume_relaxation"),
+    moved("scheme.ppe_laplacian",                 "experimental.ppe_laplacian"),
     moved("scheme.sound_speed",                   "scheme.wcsph.sound_speed"),
     moved("scheme.mach",                          "scheme.wcsph.mach"),
     moved("scheme.artificial_viscosity",          "scheme.wcsph.artificial_viscosity"),
@@ -47,24 +47,24 @@ pub const RENAMED: &[Renamed] = &[
     moved("scheme.density_diffusion",             "scheme.wcsph.density_diffusion"),
     moved("scheme.sound_speed_stress_factor",     "scheme.wcsph.sound_speed_stress_factor"),
     moved("scheme.free_surface_pressure",         "scheme.free_surface.pressure"),
-    moved("scheme.surface_gradient",              "scheme.free_surface.gradient"),
-    moved("scheme.contact_line_rows",             "scheme.free_surface.contact_rows"),
-    moved("scheme.surface_indicator",             "scheme.free_surface.indicator"),
-    moved("scheme.surface_shear",                 "scheme.free_surface.shear"),
+    moved("scheme.surface_gradient",              "experimental.surface_gradient"),
+    moved("scheme.contact_line_rows",             "experimental.contact_rows"),
+    moved("scheme.surface_indicator",             "experimental.surface_indicator"),
+    moved("scheme.surface_shear",                 "experimental.surface_shear"),
     moved("scheme.detached_momentum",             "scheme.free_surface.detached_momentum"),
     moved("scheme.surface_repulsion",             "scheme.free_surface.repulsion"),
     moved("scheme.surface_tension",               "scheme.surface_tension.form"),
     moved("scheme.capillary_time_level",          "scheme.surface_tension.time_level"),
-    moved("scheme.contact_curvature",             "scheme.wetting.curvature"),
-    moved("scheme.contact_angle_at",              "scheme.wetting.angle_at"),
+    moved("scheme.contact_curvature",             "experimental.contact_curvature"),
+    moved("scheme.contact_angle_at",              "experimental.contact_angle_at"),
     moved("scheme.wall_model",                    "scheme.walls.model"),
     moved("scheme.wall_velocity",                 "scheme.walls.velocity"),
-    moved("scheme.wall_pressure",                 "scheme.walls.pressure"),
+    moved("scheme.wall_pressure",                 "experimental.wall_pressure"),
     moved("scheme.wall_conformation",             "scheme.walls.conformation"),
     moved("scheme.conformation",                  "scheme.conformation.form"),
     moved("scheme.conformation_integrator",       "scheme.conformation.integrator"),
     moved("scheme.conformation_remap",            "scheme.conformation.remap"),
-    moved("scheme.constitutive_gradient",         "scheme.conformation.velocity_gradient"),
+    moved("scheme.constitutive_gradient",         "experimental.velocity_gradient"),
     moved("scheme.evss_alpha",                    "scheme.conformation.evss_alpha"),
     moved("scheme.hourglass_control",             "scheme.conformation.hourglass_control"),
     moved("scheme.time_step",                     "scheme.time_step.fixed"),
@@ -73,6 +73,16 @@ pub const RENAMED: &[Renamed] = &[
     moved("scheme.laplacian_order",               "scheme.operators.laplacian"),
     moved("scheme.neighbour_skin",                "scheme.neighbours.skin"),
     moved("scheme.reorder",                       "scheme.neighbours.reorder"),
+    moved("scheme.ppe.volume_relaxation",         "experimental.volume_relaxation"),
+    moved("scheme.ppe.laplacian",                 "experimental.ppe_laplacian"),
+    moved("scheme.free_surface.gradient",         "experimental.surface_gradient"),
+    moved("scheme.free_surface.contact_rows",     "experimental.contact_rows"),
+    moved("scheme.free_surface.indicator",        "experimental.surface_indicator"),
+    moved("scheme.free_surface.shear",            "experimental.surface_shear"),
+    moved("scheme.wetting.curvature",             "experimental.contact_curvature"),
+    moved("scheme.wetting.angle_at",              "experimental.contact_angle_at"),
+    moved("scheme.walls.pressure",                "experimental.wall_pressure"),
+    moved("scheme.conformation.velocity_gradient","experimental.velocity_gradient"),
 ];
 
 /// The first old key present in a parsed case table, as the error a user sees.
@@ -109,6 +119,7 @@ fn present(table: &toml::Table, dotted: &str) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::setup::error::read_table;
 
     #[test]
     fn an_old_key_names_its_new_place() {
@@ -120,14 +131,23 @@ mod tests {
         assert!(refuse_old_keys(&table).is_ok());
     }
 
-    /// Whether `[scheme]` reads `dotted` (a key it does not know is refused as unknown; one
-    /// it knows refuses the value `[]`, which no scheme key takes, by its type).
+    /// Whether `[scheme]` or `[experimental]` reads `dotted` (a key it does not know is refused
+    /// as unknown; one it knows refuses the value `[]`, which none takes, by its type).
     fn scheme_reads(dotted: &str) -> bool {
         let mut table = toml::Table::new();
         crate::setup::overrides::apply_override(&mut table, &format!("{dotted}=[]")).unwrap();
-        let scheme = table.remove("scheme").expect("a scheme key");
-        match crate::setup::error::read_table::<crate::setup::schema::SchemeSpec>(scheme, "") {
-            Ok(_) => true,
+        let read = match dotted.split('.').next() {
+            Some("experimental") => {
+                let value = table.remove("experimental").expect("an experimental key");
+                read_table::<crate::setup::experimental::ExperimentalSpec>(value, "").map(drop)
+            }
+            _ => {
+                let value = table.remove("scheme").expect("a scheme key");
+                read_table::<crate::setup::schema::SchemeSpec>(value, "").map(drop)
+            }
+        };
+        match read {
+            Ok(()) => true,
             Err((_, message)) => !message.starts_with("unknown field"),
         }
     }

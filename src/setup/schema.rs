@@ -14,6 +14,7 @@ use crate::engine::viscosity::TimeStepSettings;
 use crate::engine::viscosity::Viscosity;
 use crate::engine::weakly_compressible::WcsphSettings;
 use crate::setup::error::{field_err, read_table, FieldError};
+use crate::setup::experimental::ExperimentalSpec;
 use crate::setup::scenes::SceneSpec;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -24,6 +25,9 @@ pub struct CaseFile {
     pub fluid: FluidSpec,
     pub scheme: SchemeSpec,
     pub run: RunSpec,
+    /// `[experimental]`: variants outside the scheme's tables (flagged when set).
+    #[serde(skip_serializing_if = "ExperimentalSpec::is_empty")]
+    pub experimental: ExperimentalSpec,
 }
 
 /// The tables besides `[scene]` and `[fluid]`.
@@ -33,6 +37,8 @@ struct Rest {
     #[serde(default)]
     scheme: SchemeSpec,
     run: RunSpec,
+    #[serde(default)]
+    experimental: ExperimentalSpec,
 }
 
 impl CaseFile {
@@ -52,6 +58,7 @@ impl CaseFile {
             fluid,
             scheme: rest.scheme,
             run: rest.run,
+            experimental: rest.experimental,
         })
     }
 }
@@ -198,7 +205,8 @@ pub struct SchemeSpec {
     pub free_surface: FreeSurfaceSettings,
     /// `[scheme.surface_tension]`: how a surface tension acts.
     pub surface_tension: SurfaceTensionSettings,
-    /// `[scheme.wetting]`: how a contact angle acts.
+    /// How a contact angle acts: both its choices are in `[experimental]`.
+    #[serde(skip)]
     pub wetting: WettingSettings,
 }
 

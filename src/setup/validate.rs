@@ -10,6 +10,7 @@ use crate::engine::rheology::{Fluid, LawEntry, Model, Solvent, ViscosityLaw, LAW
 use crate::engine::scheme::{Method, Scheme};
 use crate::engine::step::{Scales, Setup};
 use crate::setup::error::{field_err, in_range, positive, stage_err, FieldError};
+use crate::setup::experimental::ExperimentalSpec;
 use crate::setup::scenes::Scene;
 use std::sync::Arc;
 
@@ -52,6 +53,19 @@ pub struct Case {
     pub steady: Option<SteadyCriterion>,
     /// The file as given (after overrides), echoed into the run summary.
     pub source: CaseFile,
+}
+
+impl Case {
+    /// The one line that names the `[experimental]` variants the case sets (None: none).
+    pub fn experimental_line(&self) -> Option<String> {
+        let set = self.source.experimental.flagged();
+        (!set.is_empty()).then(|| {
+            format!(
+                "experimental: {} (not a default-tier choice: see the decision log)",
+                set.join(", ")
+            )
+        })
+    }
 }
 
 impl Case {
@@ -100,7 +114,7 @@ fn graded_scheme(scheme: &Scheme) -> Result<(), FieldError> {
     }
     if scheme.ppe.volume_relaxation > 0.0 || scheme.hourglass_control > 0.0 {
         return refuse(
-            "scheme.ppe.volume_relaxation and scheme.conformation.hourglass_control at 0",
+            "experimental.volume_relaxation and scheme.conformation.hourglass_control at 0",
         );
     }
     // The first-order operators are exact for linear fields only: on the graded channel
@@ -126,11 +140,13 @@ pub fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
             "acts only on a free surface, and this scene has none (set 0 or omit it)",
         ));
     }
-    let scheme = scheme(&raw.scheme, scene.as_ref(), &fluid)?;
+    raw.experimental.validate()?;
+    let written = with_experimental(&raw.scheme, &raw.experimental);
+    let scheme = scheme(&written, scene.as_ref(), &fluid)?;
     if scene.graded() {
         graded_scheme(&scheme)?;
     }
-    if scene.has_corners() && raw.scheme.walls.model == WallModel::FixedGhost {
+    if scene.has_corners() && written.walls.model == WallModel::FixedGhost {
         return Err(field_err(
             "scheme.walls.model",
             "this scene's corners and plates need mirrors: `fixed-ghost` has no lattice behind a corner yet",
@@ -144,7 +160,7 @@ pub fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
     }
     if scene.contact_angle().is_some() && scheme.free_surface.contact_rows == ContactRows::Wall {
         return Err(field_err(
-            "scheme.free_surface.contact_rows",
+            "experimental.contact_rows",
             "`wall` takes the contact-line particles off the surface's Dirichlet rows, through which a contact angle acts: use `surface` or `held` with scene.contact_angle",
         ));
     }
@@ -171,7 +187,7 @@ pub fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
         && !(scene.has_free_surface() && scheme.method == Method::Projection)
     {
         return Err(field_err(
-            "scheme.free_surface.shear",
+            "experimental.surface_shear",
             "`shear-free` completes the viscous term of the projection's free-surface rows: it needs a free surface and scheme.method = \"isph\"",
         ));
     }
@@ -189,6 +205,30 @@ pub fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
         steady: run.steady,
         source: raw,
     })
+}
+
+/// `scheme` with the `[experimental]` variants it sets put into their stages' tables.
+fn with_experimental(written: &SchemeSpec, e: &ExperimentalSpec) -> SchemeSpec {
+    let mut scheme = written.clone();
+    fn set<T>(target: &mut T, value: Option<T>) {
+        if let Some(v) = value {
+            *target = v;
+        }
+    }
+    set(&mut scheme.ppe.laplacian, e.ppe_laplacian);
+    set(&mut scheme.ppe.volume_relaxation, e.volume_relaxation);
+    set(
+        &mut scheme.conformation.velocity_gradient,
+        e.velocity_gradient,
+    );
+    set(&mut scheme.walls.pressure, e.wall_pressure);
+    set(&mut scheme.free_surface.gradient, e.surface_gradient);
+    set(&mut scheme.free_surface.contact_rows, e.contact_rows);
+    set(&mut scheme.free_surface.indicator, e.surface_indicator);
+    set(&mut scheme.free_surface.shear, e.surface_shear);
+    set(&mut scheme.wetting.curvature, e.contact_curvature);
+    set(&mut scheme.wetting.angle_at, e.contact_angle_at);
+    scheme
 }
 
 /// The model with its parameters, each checked against its range and refused where the model
@@ -406,10 +446,10 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
     let open = scene.has_free_surface();
     let method = method(s, scene, fluid)?;
     // 0 restores the stability rules (so `--set` can undo a case file's fixed step).
-    let time_step = (s.time_step.validate()).map_err(|e| stage_err("scheme.time_step", e))?;
+    let time_step = (s.time_step.validate()).map_err(|e| stage_err("scheme.time_step.fixed", e))?;
     frame_fits(s, scene)?;
     // Explicit: ν δt/h² = ξ × the elastic Courant number (engine::rheology::hourglass).
-    (s.conformation.validate()).map_err(|e| stage_err("scheme.conformation", e))?;
+    (s.conformation.validate()).map_err(|e| stage_err("scheme.conformation.form", e))?;
     let viscous_tolerance = s.viscous_tolerance;
     if !(viscous_tolerance > 0.0 && viscous_tolerance <= 1e-2) {
         return Err(field_err(
@@ -559,11 +599,11 @@ fn method(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Method, Fi
         return refuse("scheme.projection", "there is no projection");
     }
     if s.ppe.volume_relaxation != 0.0 {
-        return refuse("scheme.ppe.volume_relaxation", "there is no PPE (set 0)");
+        return refuse("experimental.volume_relaxation", "there is no PPE (set 0)");
     }
     if s.free_surface.contact_rows == ContactRows::Wall {
         return refuse(
-            "scheme.free_surface.contact_rows",
+            "experimental.contact_rows",
             "there are no PPE rows to give the contact lines (`held` holds them off the wall)",
         );
     }

@@ -169,6 +169,9 @@ fn dispatch(cli: Cli) -> anyhow::Result<u8> {
         }
         Command::Check(args) => {
             let case = case::load(&args.case, &args.set)?;
+            if let Some(line) = case.experimental_line() {
+                eprintln!("{}: {line}", args.case.display());
+            }
             let text = format!(
                 "{}: valid\n{}\n",
                 args.case.display(),

@@ -245,6 +245,9 @@ pub fn report_start(case: &Case, d: &Derived) {
         case.scheme.shifting,
         rayon::current_num_threads()
     );
+    if let Some(line) = case.experimental_line() {
+        eprintln!("  {line}");
+    }
 }
 
 pub fn report_end(s: &Summary, dir: &Path) {

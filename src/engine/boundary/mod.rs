@@ -42,6 +42,8 @@ pub struct WallSettings {
     pub velocity: WallVelocityChoice,
     /// `neumann` (∂p/∂n = 0, the paper's) or `momentum` (∂p/∂n = n·(∇·Φ + ρg)): the
     /// pressure the wall ghosts carry ([`wall_pressure`]).
+    /// Read from `[experimental]` (`setup::experimental`), not from this table.
+    #[serde(skip)]
     pub pressure: WallPressure,
     /// How the conformation is carried onto wall mirrors; unset = `linear`, or `even` in a
     /// scene with a free surface, where the continuation is not validated (the weakly

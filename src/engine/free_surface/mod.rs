@@ -69,7 +69,7 @@ pub enum SurfaceTensionForm {
 }
 
 /// Which PPE row a surface particle in a wall's first half-spacing takes
-/// (`scheme.free_surface.contact_rows`).
+/// (`experimental.contact_rows`).
 ///
 /// An interior particle that approaches a wall is held off by the PPE: its approach
 /// compresses its kernel sum with its mirrors, and its pressure rises. A surface particle's
@@ -103,7 +103,7 @@ pub enum ContactRows {
     Held,
 }
 
-/// Whether a particle is on the free surface or not, or partly (`scheme.free_surface.indicator`).
+/// Whether a particle is on the free surface or not, or partly (`experimental.surface_indicator`).
 ///
 /// (36) is a threshold: a particle whose ⟨∇·r⟩ crosses it changes its PPE row from the
 /// Poisson equation to the Dirichlet value of (35a) with σκ in one step, and enters its
@@ -160,16 +160,24 @@ pub struct FreeSurfaceSettings {
     pub pressure: SurfacePressure,
     /// `full` (the normal-stress pressure's ∇u* over the whole support, the paper's) or
     /// `own-side` (over the neighbours on the particle's own side of the surface).
+    /// Read from `[experimental]` (`setup::experimental`), not from this table.
+    #[serde(skip)]
     pub gradient: SurfaceGradient,
     /// `surface` (every surface particle a Dirichlet row, the paper's), `wall` (one within
     /// δr/2 of a wall an interior row; not with a contact angle) or `held` (Dirichlet rows,
     /// those within δr/4 of a wall held off it); see [`ContactRows`].
+    /// Read from `[experimental]` (`setup::experimental`), not from this table.
+    #[serde(skip)]
     pub contact_rows: ContactRows,
     /// `sharp` ((36) decides, the paper's) or `blended` (a particle (36) has just taken into
     /// FS counts partly).
+    /// Read from `[experimental]` (`setup::experimental`), not from this table.
+    #[serde(skip)]
     pub indicator: SurfaceIndicator,
     /// `truncated` (the Laplacian (21) on the truncated support, the paper's) or
     /// `shear-free` (plus the tangential flux of the shear-free condition).
+    /// Read from `[experimental]` (`setup::experimental`), not from this table.
+    #[serde(skip)]
     pub shear: SurfaceShear,
     /// `conserved` (a body of liquid detached from the rest keeps its momentum and angular
     /// momentum) or `unconstrained` (the paper's).

@@ -38,7 +38,7 @@ pub enum SurfacePressure {
     Zero,
 }
 
-/// Which neighbours the velocity gradient of (35a) is taken over (`scheme.free_surface.gradient`).
+/// Which neighbours the velocity gradient of (35a) is taken over (`experimental.surface_gradient`).
 #[derive(
     Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
 )]

@@ -1,5 +1,5 @@
 //! The shear-free condition in the viscous term of the surface rows
-//! (`scheme.free_surface.shear = "shear-free"`).
+//! (`experimental.surface_shear = "shear-free"`).
 //!
 //! A free surface carries no tangential stress: t·(τ − pI)·n = 0, i.e.
 //! ∂u_t/∂n = −∂u_n/∂t for a Newtonian liquid. The Laplacian of (21) on a surface particle's
@@ -35,7 +35,7 @@ use crate::engine::operators::KernelSums;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-/// The viscous term's tangential flux through a free surface (`scheme.free_surface.shear`).
+/// The viscous term's tangential flux through a free surface (`experimental.surface_shear`).
 #[derive(
     Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
 )]

@@ -66,7 +66,7 @@ const INTO_WALL: f64 = 0.25;
 /// exposure test ([`Wetting::is_exposed`]).
 const EXPOSED_REACH: f64 = 2.5;
 
-/// How the contact particle's own curvature is found (`scheme.wetting.curvature`; module
+/// How the contact particle's own curvature is found (`experimental.contact_curvature`; module
 /// docs).
 #[derive(
     Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
@@ -98,7 +98,7 @@ pub struct WettingSettings {
     pub angle_at: ContactAngleAt,
 }
 
-/// Which curve meets the wall at θ (`scheme.wetting.angle_at`; module docs).
+/// Which curve meets the wall at θ (`experimental.contact_angle_at`; module docs).
 #[derive(
     Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
 )]

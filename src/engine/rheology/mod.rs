@@ -43,6 +43,8 @@ pub struct ConformationSettings {
     pub remap: RemapChoice,
     /// The velocity gradient the update sees: `auto`, `solenoidal`, `wall-normal-even` or
     /// `raw` ([`crate::engine::kinematics`]).
+    /// Read from `[experimental]` (`setup::experimental`), not from this table.
+    #[serde(skip)]
     pub velocity_gradient: GradientChoice,
     /// α_V of the EVSS splitting, eqs. (6)–(8).
     pub evss_alpha: f64,

@@ -40,7 +40,7 @@ pub struct JetSummary {
     pub frequency: Option<f64>,
     pub max_band_x: f64,
     /// How many times a surface particle on the plate with no interior neighbour had its
-    /// velocity into the plate removed (`scheme.free_surface.contact_rows = "wall"`).
+    /// velocity into the plate removed (`experimental.contact_rows = "wall"`).
     pub wall_holds: u64,
     /// Detached bodies of liquid whose momentum a step corrected, summed over the steps, and
     /// the largest velocity one correction removed from a particle (m/s)
