@@ -111,13 +111,13 @@ fn series_min_det_a(rows: &[rheosph::app::io::SeriesRow]) -> f64 {
 }
 
 /// The smallest det A over every output of a coarse cylinder-array run at Wi = 1 (R/δr = 9,
-/// to t = 2), with the scheme keys `scheme` (`key=value`).
+/// to t = 2), with the overrides `scheme` (`key=value`, dotted in full).
 fn min_det_a(scheme: &[&str]) -> f64 {
     let mut sets = vec![
         "fluid.relaxation_time=1".to_string(),
         "run.end_time=2".into(),
     ];
-    sets.extend(scheme.iter().map(|key| format!("scheme.{key}")));
+    sets.extend(scheme.iter().map(|key| key.to_string()));
     series_min_det_a(&coarse_array_series(&sets))
 }
 
@@ -128,12 +128,12 @@ fn min_det_a(scheme: &[&str]) -> f64 {
 /// rest of the update keeps it by construction), bound 1 − 1e-6.
 #[test]
 fn det_a_stays_at_least_one_next_to_the_cylinder() {
-    let solenoidal = min_det_a(&["conformation.velocity_gradient=solenoidal"]);
+    let solenoidal = min_det_a(&["experimental.velocity_gradient=solenoidal"]);
     assert!(
         solenoidal >= 1.0 - 1e-6,
         "solenoidal: min det A {solenoidal}"
     );
-    let raw = min_det_a(&["conformation.velocity_gradient=raw"]);
+    let raw = min_det_a(&["experimental.velocity_gradient=raw"]);
     assert!(
         raw < 0.95,
         "the raw gradient should show the defect: min det A {raw}"
@@ -160,9 +160,9 @@ fn det_a_stays_at_least_one_next_to_the_cylinder() {
 /// (default) never leaves the neighbours' range: ≥ 1 up to round-off.
 #[test]
 fn the_limited_remap_keeps_det_a_at_least_one_in_the_eulerian_frame() {
-    let limited = min_det_a(&["frame=eulerian", "conformation.remap=limited"]);
+    let limited = min_det_a(&["scheme.frame=eulerian", "scheme.conformation.remap=limited"]);
     assert!(limited >= 1.0 - 1e-9, "limited: min det A {limited}");
-    let central = min_det_a(&["frame=eulerian", "conformation.remap=central"]);
+    let central = min_det_a(&["scheme.frame=eulerian", "scheme.conformation.remap=central"]);
     assert!(
         central < 0.95,
         "the central remap should show the defect: min det A {central}"

@@ -446,10 +446,10 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
     let open = scene.has_free_surface();
     let method = method(s, scene, fluid)?;
     // 0 restores the stability rules (so `--set` can undo a case file's fixed step).
-    let time_step = (s.time_step.validate()).map_err(|e| stage_err("scheme.time_step.fixed", e))?;
+    let time_step = (s.time_step.validate()).map_err(|e| stage_err("scheme.time_step", e))?;
     frame_fits(s, scene)?;
     // Explicit: ν δt/h² = ξ × the elastic Courant number (engine::rheology::hourglass).
-    (s.conformation.validate()).map_err(|e| stage_err("scheme.conformation.form", e))?;
+    (s.conformation.validate()).map_err(|e| stage_err("scheme.conformation", e))?;
     let viscous_tolerance = s.viscous_tolerance;
     if !(viscous_tolerance > 0.0 && viscous_tolerance <= 1e-2) {
         return Err(field_err(
