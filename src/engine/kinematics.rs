@@ -23,10 +23,8 @@
 //!   incompressible constitutive equation does not contain, is removed, and det A ≥ 1 holds for
 //!   Oldroyd-B whatever the operator's error.
 
-use crate::engine::boundary::Ghosts;
 use crate::engine::math::{Mat2, Vec2};
-use crate::engine::neighbours::NeighbourList;
-use crate::engine::operators::KernelSums;
+use crate::engine::neighbourhood::Hood;
 
 /// The velocity gradient of the constitutive update (see
 /// [`crate::engine::kinematics::ConstitutiveGradient`]).
@@ -83,11 +81,8 @@ impl Kinematics {
     }
 
     /// ∇u^n of `velocity` (and the constitutive gradient).
-    pub fn update(
-        &mut self,
-        (list, sums, ghosts): (&NeighbourList, &KernelSums, &Ghosts),
-        velocity: &[Vec2],
-    ) {
+    pub fn update(&mut self, hood: Hood, velocity: &[Vec2]) {
+        let Hood { list, sums, ghosts } = hood;
         let n = velocity.len();
         ghosts.continue_velocity(velocity, &mut self.velocity_ext);
         self.grad_u.resize(n, Mat2::zeros());
@@ -99,7 +94,7 @@ impl Kinematics {
         self.constitutive.clear();
         self.constitutive.extend_from_slice(&self.grad_u);
         even_normal_correction(
-            (list, sums, ghosts),
+            Hood { list, sums, ghosts },
             &self.velocity_ext,
             n,
             &mut self.constitutive,
@@ -136,12 +131,8 @@ impl Kinematics {
 /// error back. On the confined cylinder (R/δr = 10, Oldroyd-B, Wi = 0.5) the override raised
 /// the flow's drag K from 124.0 to 127.2 (published 118.83), and without the trace removal
 /// to 138.1.
-fn even_normal_correction(
-    (list, sums, ghosts): (&NeighbourList, &KernelSums, &Ghosts),
-    extended: &[Vec2],
-    n: usize,
-    grad: &mut [Mat2],
-) {
+fn even_normal_correction(hood: Hood, extended: &[Vec2], n: usize, grad: &mut [Mat2]) {
+    let Hood { list, sums, ghosts } = hood;
     if ghosts.is_empty() {
         return;
     }

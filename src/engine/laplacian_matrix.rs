@@ -15,6 +15,7 @@
 //! CSR (sprs), whose buffers are handed back after every solve.
 
 use crate::engine::boundary::{Field, Ghosts};
+use crate::engine::neighbourhood::Hood;
 use crate::engine::neighbours::{NeighbourList, RowWriter};
 use crate::engine::operators::{pair_viscosity, KernelSums};
 use rayon::prelude::*;
@@ -111,7 +112,15 @@ impl LaplacianMatrix {
                     1
                 } else {
                     let coefficients = (d, c, factor);
-                    assemble_row(i, n, (list, sums, ghosts), field, coefficients, cols, vals)
+                    assemble_row(
+                        i,
+                        n,
+                        Hood { list, sums, ghosts },
+                        field,
+                        coefficients,
+                        cols,
+                        vals,
+                    )
                 };
             });
 
@@ -219,12 +228,13 @@ impl LaplacianMatrix {
 fn assemble_row(
     i: usize,
     n_fluid: usize,
-    (list, sums, ghosts): (&NeighbourList, &KernelSums, &Ghosts),
+    hood: Hood,
     field: Field,
     (d, c, factor): (f64, f64, &[f64]),
     cols: &mut [usize],
     vals: &mut [f64],
 ) -> usize {
+    let Hood { list, sums, ghosts } = hood;
     let mut len = 1;
     let mut diagonal = d;
     for k in list.range(i) {

@@ -22,6 +22,15 @@ use crate::engine::resolution::{Graded, Local, Resolution};
 use crate::engine::settings::{in_range, Invalid};
 use serde::{Deserialize, Serialize};
 
+/// A step's neighbourhood as the operators read it: the pair lists, their kernel sums and the
+/// ghosts that extend the fields beyond walls.
+#[derive(Clone, Copy)]
+pub struct Hood<'a> {
+    pub list: &'a NeighbourList,
+    pub sums: &'a KernelSums,
+    pub ghosts: &'a Ghosts,
+}
+
 /// `[scheme.neighbours]`: the neighbour search and the particles' order in memory. Results do
 /// not depend on them, only the time per step.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
@@ -156,8 +165,12 @@ impl Neighbourhood {
     }
 
     /// The three parts every operator takes.
-    pub fn parts(&self) -> (&NeighbourList, &KernelSums, &Ghosts) {
-        (&self.list, &self.sums, &self.ghosts)
+    pub fn parts(&self) -> Hood<'_> {
+        Hood {
+            list: &self.list,
+            sums: &self.sums,
+            ghosts: &self.ghosts,
+        }
     }
 
     /// The lists no longer describe the particles.

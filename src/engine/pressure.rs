@@ -19,6 +19,7 @@ use crate::engine::boundary::Ghosts;
 use crate::engine::frame::Frame;
 use crate::engine::laplacian_matrix::LaplacianMatrix;
 use crate::engine::math::Vec2;
+use crate::engine::neighbourhood::Hood;
 use crate::engine::neighbours::NeighbourList;
 use crate::engine::operators::{KernelSums, PpeLaplacian};
 use crate::engine::settings::{in_range, positive, Invalid};
@@ -225,12 +226,8 @@ impl PressureStage {
     /// the ghosts' u* carry the force the offsets balance
     /// ([`Ghosts::continue_force`](crate::engine::boundary::Ghosts::continue_force));
     /// [`Self::velocity_star_ext`] stays the plain mirror.
-    pub fn divergence(
-        &mut self,
-        (list, sums, ghosts): (&NeighbourList, &KernelSums, &Ghosts),
-        velocity_star: &[Vec2],
-        wall_pressure: Option<f64>,
-    ) {
+    pub fn divergence(&mut self, hood: Hood, velocity_star: &[Vec2], wall_pressure: Option<f64>) {
+        let Hood { list, sums, ghosts } = hood;
         ghosts.continue_velocity(velocity_star, &mut self.velocity_ext);
         self.divergence.resize(velocity_star.len(), 0.0);
         match wall_pressure.filter(|_| !ghosts.pressure_offsets().is_empty()) {
@@ -261,7 +258,7 @@ impl PressureStage {
     /// right-hand side ([`wall_pressure_rhs`]) of every row but the Dirichlet ones.
     pub fn assemble(
         &mut self,
-        hood: (&NeighbourList, &KernelSums, &Ghosts),
+        hood: Hood,
         density: f64,
         dt: f64,
         rows: SurfaceRows,
@@ -274,7 +271,7 @@ impl PressureStage {
         }
         if self.matrix_stale {
             let system = &mut self.system;
-            system.assemble_matrix(hood.0, hood.1, hood.2, density, rows.dirichlet);
+            system.assemble_matrix(hood.list, hood.sums, hood.ghosts, density, rows.dirichlet);
             system.blend_matrix_rows(rows.blended);
         }
         let system = &mut self.system;
@@ -320,11 +317,12 @@ impl PressureStage {
     /// carry the wall's offsets, or its increment, whose ghosts do not).
     pub fn project(
         &mut self,
-        (list, sums, ghosts): (&NeighbourList, &KernelSums, &Ghosts),
+        hood: Hood,
         (solved, full): (&[f64], bool),
         dt_over_rho: f64,
         velocity_star: &mut [Vec2],
     ) {
+        let Hood { list, sums, ghosts } = hood;
         if full {
             ghosts.extend_full_pressure(solved, &mut self.pressure_ext);
         } else {
@@ -358,12 +356,8 @@ impl PressureStage {
 /// [`WallPressure::Momentum`](crate::engine::boundary::WallPressure) carries `p_g = p_k + c_g`:
 /// its constant part `(1/ρ) Σ_g w_ig c_g` leaves the folded matrix for `rhs`. Rows flagged
 /// in `rows` (Dirichlet) are left alone; nothing to do without offsets.
-pub fn wall_pressure_rhs(
-    (list, sums, ghosts): (&NeighbourList, &KernelSums, &Ghosts),
-    density: f64,
-    rows: &[bool],
-    rhs: &mut [f64],
-) {
+pub fn wall_pressure_rhs(hood: Hood, density: f64, rows: &[bool], rhs: &mut [f64]) {
+    let Hood { list, sums, ghosts } = hood;
     let offsets = ghosts.pressure_offsets();
     if offsets.is_empty() {
         return;

@@ -10,8 +10,8 @@
 //!   settles). Its PPE carries the [`PressureStabilisation`] of p^n, without which its steady
 //!   state has no stable pressure; with it the steady state does not depend on δt.
 
-use crate::engine::boundary::Ghosts;
 use crate::engine::math::Vec2;
+use crate::engine::neighbourhood::Hood;
 use crate::engine::neighbours::NeighbourList;
 use crate::engine::operators::KernelSums;
 use crate::engine::stabilisation::PressureStabilisation;
@@ -76,11 +76,8 @@ impl ProjectionStage {
     }
 
     /// Step 4: ∇p^n for the predictor's −∇p^n/ρ (incremental), or None.
-    pub fn old_pressure_gradient(
-        &mut self,
-        (list, sums, ghosts): (&NeighbourList, &KernelSums, &Ghosts),
-        pressure: &[f64],
-    ) -> Option<&[Vec2]> {
+    pub fn old_pressure_gradient(&mut self, hood: Hood, pressure: &[f64]) -> Option<&[Vec2]> {
+        let Hood { list, sums, ghosts } = hood;
         match self.kind {
             Projection::Standard => None,
             Projection::Incremental => {

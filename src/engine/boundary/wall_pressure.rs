@@ -227,7 +227,16 @@ mod tests {
         );
         ghosts.set_pressure_gradient(&points, &vec![Vec2::new(0.0, force); n]);
         let mut rhs = vec![0.0; n];
-        crate::engine::pressure::wall_pressure_rhs((&list, &sums, &ghosts), density, &[], &mut rhs);
+        crate::engine::pressure::wall_pressure_rhs(
+            crate::engine::neighbourhood::Hood {
+                list: &list,
+                sums: &sums,
+                ghosts: &ghosts,
+            },
+            density,
+            &[],
+            &mut rhs,
+        );
         let residual = ap
             .iter()
             .zip(&rhs)

@@ -8,10 +8,9 @@ use super::{
     direct_step, direct_step_strang, log_conformation_step, log_conformation_step_strang,
     log_local_rate, log_unsplit_step, Fluid, Model,
 };
-use crate::engine::boundary::Ghosts;
 use crate::engine::math::{Mat2, Sym2, Vec2};
-use crate::engine::neighbours::NeighbourList;
-use crate::engine::operators::{DivergenceForm, KernelSums};
+use crate::engine::neighbourhood::Hood;
+use crate::engine::operators::DivergenceForm;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -135,7 +134,7 @@ impl ConformationStage {
         &mut self,
         fluid: &Fluid,
         dt: f64,
-        hood: (&NeighbourList, &KernelSums, &Ghosts),
+        hood: Hood,
         (grad_u, u_ps): (&[Mat2], &[Vec2]),
         conformation: &mut [Sym2],
     ) {
@@ -149,11 +148,11 @@ impl ConformationStage {
         &mut self,
         fluid: &Fluid,
         dt: f64,
-        hood: (&NeighbourList, &KernelSums, &Ghosts),
+        hood: Hood,
         (grad_u, u_ps): (&[Mat2], &[Vec2]),
         conformation: &mut [Sym2],
     ) {
-        let ghosts = hood.2;
+        let ghosts = hood.ghosts;
         let n = conformation.len();
         let lambda = fluid.relaxation_time;
         let model = fluid.model;
@@ -218,12 +217,8 @@ impl ConformationStage {
     /// wherever tr log A rises from ≈ 0 at the wall), which the upwind transport would carry
     /// into the fluid: in the lid-driven cavity at Wi = 1 the extrapolated ghosts took the
     /// fluid's det A down to 0.88 by t = 4.
-    fn remap_rate(
-        &mut self,
-        (list, sums, ghosts): (&NeighbourList, &KernelSums, &Ghosts),
-        u_ps: &[Vec2],
-        dt: f64,
-    ) {
+    fn remap_rate(&mut self, hood: Hood, u_ps: &[Vec2], dt: f64) {
+        let Hood { list, sums, ghosts } = hood;
         let ext = &self.tensor_ext;
         let rate = &mut self.advection;
         match self.remap {
@@ -261,10 +256,11 @@ impl ConformationStage {
     fn evss_divergence(
         &mut self,
         fluid: &Fluid,
-        (list, sums, ghosts): (&NeighbourList, &KernelSums, &Ghosts),
+        hood: Hood,
         grad_u: &[Mat2],
         conformation: &[Sym2],
     ) {
+        let Hood { list, sums, ghosts } = hood;
         let n = conformation.len();
         let evss = self.evss;
         self.phi.resize(n, Sym2::ZERO);
@@ -316,6 +312,9 @@ impl ConformationStage {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::engine::boundary::Ghosts;
+    use crate::engine::neighbours::NeighbourList;
+    use crate::engine::operators::KernelSums;
     use crate::engine::rheology::{FeneCr, ViscosityLaw};
 
     /// tr A < L² is a FENE invariant the step checks: a conformation at L² stops the run
@@ -417,7 +416,11 @@ mod tests {
             stage.advance(
                 &fluid,
                 dt,
-                (&list, &sums, &ghosts),
+                crate::engine::neighbourhood::Hood {
+                    list: &list,
+                    sums: &sums,
+                    ghosts: &ghosts,
+                },
                 (&grad_u, &u_ps),
                 &mut a,
             );

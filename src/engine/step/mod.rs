@@ -34,7 +34,7 @@ use crate::engine::gravity::Gravity;
 use crate::engine::kernel::{QuinticSpline, H_OVER_DR};
 use crate::engine::kinematics::Kinematics;
 use crate::engine::math::{Sym2, Vec2};
-use crate::engine::neighbourhood::{default_skin, Neighbourhood};
+use crate::engine::neighbourhood::{default_skin, Hood, Neighbourhood};
 use crate::engine::neighbours::Domain;
 use crate::engine::operators::DivergenceForm;
 use crate::engine::ordering::Reordering;
@@ -558,11 +558,12 @@ impl Simulation {
         let (st, s, kernel) = (&mut self.stages, &mut self.state, &self.kernel);
         let buffer = buffer_flags(&self.inflow);
         self.timers.time(Stage::Kinematics, || {
-            let (list, sums, ghosts) = st.hood.parts();
+            let hood = st.hood.parts();
+            let Hood { list, sums, ghosts } = hood;
             if let Some(fs) = st.free_surface.as_mut() {
                 fs.detect((list, sums, &st.hood.points), kernel, buffer);
             }
-            st.kinematics.update((list, sums, ghosts), &s.velocity);
+            st.kinematics.update(hood, &s.velocity);
             if let Some(v) = st.shear_viscosity.as_mut() {
                 v.update(&st.kinematics.grad_u, ghosts);
             }
@@ -598,7 +599,7 @@ impl Simulation {
                     stage.update(fluid, dt, st.hood.parts(), inputs, &mut s.conformation)
                 }
                 if let Some(control) = st.hourglass.as_mut() {
-                    let (list, sums, _) = st.hood.parts();
+                    let Hood { list, sums, .. } = st.hood.parts();
                     let fields = (
                         &s.velocity[..],
                         &st.kinematics.grad_u[..],
@@ -626,7 +627,7 @@ impl Simulation {
             let surface_force = match (st.cohesion.as_mut(), st.free_surface.as_mut()) {
                 (Some(c), _) => Some(c.accelerations(domain, &st.hood.points[..n])),
                 (None, Some(fs)) => {
-                    fs.shear_free_accelerations((hood.0, hood.1), grad_u, (st.nu, factor))
+                    fs.shear_free_accelerations((hood.list, hood.sums), grad_u, (st.nu, factor))
                 }
                 (None, None) => None,
             };
@@ -647,7 +648,7 @@ impl Simulation {
                 u_ps: &s.shift_velocity,
                 viscous: st
                     .viscous
-                    .explicit_laplacian(hood.0, hood.1, &st.kinematics.velocity_ext, factor)
+                    .explicit_laplacian(hood.list, hood.sums, &st.kinematics.velocity_ext, factor)
                     .map(|(laplacian, weight)| (laplacian, weight * st.nu)),
                 stress: st
                     .conformation
@@ -699,7 +700,7 @@ impl Simulation {
             let wall_pressure = st.projection.kind == Projection::Standard;
             let continued = wall_pressure.then_some(dt / fluid.density);
             st.pressure.divergence(hood, &st.velocity_star, continued);
-            let stabilised = (hood.0, hood.1);
+            let stabilised = (hood.list, hood.sums);
             let scales = (fluid.density, dt);
             let divergence = st.pressure.divergence_mut();
             st.projection
@@ -707,7 +708,7 @@ impl Simulation {
             let dirichlet = st.free_surface.as_mut().map(|fs| {
                 let factor = st.shear_viscosity.as_ref().map_or(&[][..], |v| v.factor());
                 fs.dirichlet_pressure(
-                    (hood.0, hood.1, &st.hood.points),
+                    (hood.list, hood.sums, &st.hood.points),
                     (fluid, factor),
                     (st.pressure.velocity_star_ext(), (&s.velocity, ahead)),
                     &s.conformation,
@@ -717,7 +718,7 @@ impl Simulation {
                 gravity.reduce(fs.values_mut(), &st.hood.points[..n], rho_g);
                 st.projection
                     .dirichlet_for_unknown(fs.values_mut(), &s.pressure);
-                fs.choose_rows(hood.0, &st.hood.points, hood.2);
+                fs.choose_rows(hood.list, &st.hood.points, hood.ghosts);
                 fs.dirichlet()
             });
             let rows = dirichlet.unwrap_or_default();
@@ -729,7 +730,8 @@ impl Simulation {
                     s.row_support(i)
                 })
             };
-            st.pressure.relax_volume((hood.0, hood.1), support, dt);
+            st.pressure
+                .relax_volume((hood.list, hood.sums), support, dt);
         });
         let dirichlet = st
             .free_surface
@@ -762,7 +764,7 @@ impl Simulation {
             // Under `contact_line_rows = "held"` (the only choice besides `surface` that the
             // weakly compressible scheme takes) the surface particles within δr/4 of a wall
             // lose their velocity into it; under `surface` nothing is held.
-            fs.choose_rows(hood.0, &st.hood.points, hood.2);
+            fs.choose_rows(hood.list, &st.hood.points, hood.ghosts);
             fs.hold_off_walls(&mut st.velocity_star);
         }
         let shift = self.scheme.shifting.then_some(&s.shift_velocity[..]);

@@ -15,6 +15,7 @@ use crate::engine::boundary::Field;
 use crate::engine::boundary::Ghosts;
 use crate::engine::laplacian_matrix::LaplacianMatrix;
 use crate::engine::math::Vec2;
+use crate::engine::neighbourhood::Hood;
 use crate::engine::neighbours::NeighbourList;
 use crate::engine::operators::KernelSums;
 use rheosph_solver::{NullSpace, Preconditioner, SolveError, SolveReport, SolverOptions, Strategy};
@@ -50,12 +51,13 @@ impl ImplicitViscosity {
     /// matrix holds the rest, so the step is implicit in the continuation as in the mirror.
     fn add_wall_term(
         &mut self,
-        (list, sums, ghosts): (&NeighbourList, &KernelSums, &Ghosts),
+        hood: Hood,
         nu_dt: f64,
         rhs: &mut [Vec2],
         prescribed: &[bool],
         factor: &[f64],
     ) {
+        let Hood { list, sums, ghosts } = hood;
         if !ghosts.has_offsets() {
             return;
         }
@@ -107,7 +109,13 @@ impl ImplicitViscosity {
             prescribed,
             factor,
         );
-        self.add_wall_term((list, sums, ghosts), nu_dt, velocity, prescribed, factor);
+        self.add_wall_term(
+            Hood { list, sums, ghosts },
+            nu_dt,
+            velocity,
+            prescribed,
+            factor,
+        );
         let options = SolverOptions {
             relative_tolerance: tolerance,
             absolute_tolerance: 0.0,

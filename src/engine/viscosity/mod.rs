@@ -29,9 +29,9 @@
 pub mod implicit;
 pub mod shear_dependent;
 
-use crate::engine::boundary::Ghosts;
 use crate::engine::free_surface::tension::capillary_limit;
 use crate::engine::math::Vec2;
+use crate::engine::neighbourhood::Hood;
 use crate::engine::neighbours::NeighbourList;
 use crate::engine::operators::KernelSums;
 use crate::engine::rheology::Fluid;
@@ -254,13 +254,14 @@ impl ViscousStage {
     /// factor (empty: uniform). Nothing for the explicit term.
     pub fn solve(
         &mut self,
-        (list, sums, ghosts): (&NeighbourList, &KernelSums, &Ghosts),
+        hood: Hood,
         nu_dt: (f64, &[f64]),
         warm_start: &[Vec2],
         velocity: &mut [Vec2],
         (prescribed, value): (&[bool], Vec2),
         preconditioner: rheosph_solver::Preconditioner,
     ) -> Result<Option<[SolveReport; 2]>, SolveError> {
+        let Hood { list, sums, ghosts } = hood;
         let (theta, tolerance) = (self.theta, self.tolerance);
         let Some(m) = self.implicit.as_mut() else {
             return Ok(None);

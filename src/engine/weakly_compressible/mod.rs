@@ -21,11 +21,9 @@
 
 pub mod artificial;
 
-use crate::engine::boundary::Ghosts;
 use crate::engine::kernel::QuinticSpline;
 use crate::engine::math::{Mat2, Sym2, Vec2};
-use crate::engine::neighbours::NeighbourList;
-use crate::engine::operators::KernelSums;
+use crate::engine::neighbourhood::Hood;
 use crate::engine::rheology::Fluid;
 use crate::engine::settings::{in_range, positive, Invalid};
 pub use artificial::{ArtificialStress, ArtificialViscosity};
@@ -210,7 +208,7 @@ pub struct WeakStage {
 
 /// What the momentum sum reads.
 pub struct MomentumInputs<'a> {
-    pub hood: (&'a NeighbourList, &'a KernelSums, &'a Ghosts),
+    pub hood: Hood<'a>,
     pub kernel: &'a QuinticSpline,
     pub pressure: &'a [f64],
     /// u^n extended to the ghosts.
@@ -306,7 +304,7 @@ impl WeakStage {
     /// The accelerations of the pressure, polymer stress, artificial viscosity and stress in
     /// the symmetric form (module docs), for the predictor.
     pub fn momentum(&mut self, m: &MomentumInputs) -> &[Vec2] {
-        let (list, sums, ghosts) = m.hood;
+        let Hood { list, sums, ghosts } = m.hood;
         let n = m.pressure.len();
         ghosts.extend_full_pressure(m.pressure, &mut self.pressure_ext);
         self.fill_stresses(m);
@@ -350,7 +348,7 @@ impl WeakStage {
 
     /// τ_p/ρ² and the artificial stress R of every particle, extended to the ghosts.
     fn fill_stresses(&mut self, m: &MomentumInputs) {
-        let (_, _, ghosts) = m.hood;
+        let ghosts = m.hood.ghosts;
         let n = m.pressure.len();
         let eos = self.eos;
         let rho = |i: usize| eos.density(m.pressure[i]);
@@ -384,12 +382,13 @@ impl WeakStage {
     /// form (1) for ρ) is added.
     pub fn continuity(
         &mut self,
-        (list, sums, ghosts): (&NeighbourList, &KernelSums, &Ghosts),
+        hood: Hood,
         kernel: &QuinticSpline,
         (velocity, shift): (&[Vec2], Option<&[Vec2]>),
         pressure: &mut [f64],
         dt: f64,
     ) {
+        let Hood { list, sums, ghosts } = hood;
         let n = pressure.len();
         ghosts.extend_velocity(velocity, &mut self.velocity_ext);
         ghosts.extend_full_pressure(pressure, &mut self.pressure_ext);
