@@ -60,7 +60,9 @@ pub struct ConformationStage {
     extensibility: Option<f64>,
     /// α_V η0 of eq. (6).
     evss: f64,
-    form: DivergenceForm,
+    /// The form of (20) in which ∇·Φ is formed (None: not formed, the integrator sums the
+    /// polymer stress itself).
+    form: Option<DivergenceForm>,
     log_conformation: Vec<Sym2>,
     advection: Vec<Sym2>,
     tensor_ext: Vec<Sym2>,
@@ -74,12 +76,13 @@ pub struct ConformationStage {
 }
 
 impl ConformationStage {
-    /// The stage for `fluid` with EVSS weight α_V; `form` of the divergence (20).
+    /// The stage for `fluid` with EVSS weight α_V; `form` of the divergence (20), None when
+    /// the time integrator takes the polymer stress in its own momentum sum.
     pub fn new(
         (scheme, integrator, remap): (ConformationScheme, ConformationIntegrator, Remap),
         fluid: &Fluid,
         evss_alpha: f64,
-        form: DivergenceForm,
+        form: Option<DivergenceForm>,
     ) -> Self {
         Self {
             scheme,
@@ -129,7 +132,7 @@ impl ConformationStage {
     }
 
     /// Advances `conformation` from A^{n−½} to A^{n+½} with ∇u^n and the shift velocity,
-    /// then Φ and ∇·Φ.
+    /// then Φ and ∇·Φ where the stage forms them.
     pub fn update(
         &mut self,
         fluid: &Fluid,
@@ -139,12 +142,13 @@ impl ConformationStage {
         conformation: &mut [Sym2],
     ) {
         self.advance(fluid, dt, hood, (grad_u, u_ps), conformation);
-        self.evss_divergence(fluid, hood, grad_u, conformation);
+        if let Some(form) = self.form {
+            self.evss_divergence(fluid, hood, grad_u, conformation, form);
+        }
     }
 
-    /// Advances `conformation` from A^{n−½} to A^{n+½} only (a scheme that forms its own
-    /// stress divergence: the weakly compressible one).
-    pub fn advance(
+    /// Advances `conformation` from A^{n−½} to A^{n+½} only.
+    fn advance(
         &mut self,
         fluid: &Fluid,
         dt: f64,
@@ -259,6 +263,7 @@ impl ConformationStage {
         hood: Hood,
         grad_u: &[Mat2],
         conformation: &[Sym2],
+        form: DivergenceForm,
     ) {
         let Hood { list, sums, ghosts } = hood;
         let n = conformation.len();
@@ -274,7 +279,7 @@ impl ConformationStage {
             });
         ghosts.continue_tensor(&self.phi, &mut self.tensor_ext);
         self.div_phi.resize(n, Vec2::zeros());
-        sums.divergence_tensor(list, &self.tensor_ext, self.form, &mut self.div_phi);
+        sums.divergence_tensor(list, &self.tensor_ext, form, &mut self.div_phi);
     }
 
     /// ∇·Φ of the last update, for terms that add to it (the hourglass control).
@@ -282,9 +287,9 @@ impl ConformationStage {
         &mut self.div_phi
     }
 
-    /// ∇·Φ of the last update, for the predictor.
-    pub fn stress_divergence(&self) -> &[Vec2] {
-        &self.div_phi
+    /// ∇·Φ of the last update, for the predictor (None: not formed).
+    pub fn stress_divergence(&self) -> Option<&[Vec2]> {
+        self.form.map(|_| &self.div_phi[..])
     }
 
     /// The invariant the integration does not keep by construction: positive definiteness
@@ -339,7 +344,7 @@ mod tests {
                 ),
                 &fluid(model),
                 0.0,
-                DivergenceForm::Negative,
+                Some(DivergenceForm::Negative),
             )
         };
         let fene = stage(Model::FeneCr(FeneCr { l2: 10.0 }));
@@ -410,7 +415,7 @@ mod tests {
                 ),
                 &fluid,
                 0.0,
-                DivergenceForm::Negative,
+                Some(DivergenceForm::Negative),
             );
             let mut a = start.clone();
             stage.advance(

@@ -4,7 +4,6 @@
 use super::{Breakdown, Simulation};
 use crate::engine::bodies::contact::narrowest_gap;
 use crate::engine::reduce::blocked_sum;
-use crate::engine::weakly_compressible::DENSITY_DEVIATION_LIMIT;
 use rayon::prelude::*;
 
 /// Kinetic energy per unit mass above which a run has run away: an r.m.s. speed of 100 U.
@@ -47,15 +46,7 @@ impl Simulation {
         if let Some(stage) = self.stages.conformation.as_ref() {
             stage.check(&s.conformation).or_else(fail)?;
         }
-        if let Some(weak) = self.stages.weak.as_ref() {
-            let deviation = weak.density_deviation();
-            if deviation > DENSITY_DEVIATION_LIMIT {
-                return fail(format!(
-                    "density deviates by {:.1} % from ρ0 (weak compressibility is designed for ~1 %): the speed of sound is too low for this flow",
-                    100.0 * deviation
-                ));
-            }
-        }
+        self.stages.integrator.check().or_else(fail)?;
         if self.stages.free_surface.is_some() {
             let d = &self.domain;
             if let Some(p) = s.position.par_iter().find_any(|p| {

@@ -9,13 +9,16 @@
 //!    [`FreeSurfaceStage`] (36)–(39); the [`Shifting`] velocity u_ps (40)–(42).
 //! 3. [`ConformationStage`] (viscoelastic fluids): A to n+½ (29)–(32), EVSS Φ, eq. (6).
 //! 4. [`predict`], eq. (24), with the explicit or implicit [`ViscousStage`].
-//! 5. [`PressureStage`]: the PPE (25) for p^{n+1} or its increment ([`ProjectionStage`]).
+//! 5. The time integrator ([`integrator`], chosen once): the PPE (25) for p^{n+1} or its
+//!    increment ([`PressureStage`], [`ProjectionStage`]), or the weakly compressible
+//!    scheme's equation of state and continuity, which replace Steps 5–6.
 //! 6. Projection (26): u^{n+1} = u* − (δt/ρ)∇p^{n+1} (the δt is implied by (25)).
 //! 7. [`Frame`](crate::engine::frame::Frame): r^{n+1} = r^n + δt/2 (u^n + u^{n+1} + 2u_ps), eq. (27).
 //!
 //! δt follows (28) ([`Viscosity::dt_limit`](crate::engine::viscosity::Viscosity::dt_limit)).
 
 mod checks;
+mod integrator;
 
 pub use crate::engine::ordering::REORDER_INTERVAL;
 pub use crate::engine::state::{Breakdown, Scales, State, StepReport};
@@ -27,8 +30,8 @@ use crate::engine::boundary::inflow::Inflow;
 use crate::engine::boundary::{Ghosts, Wall, WallPressure};
 use crate::engine::drive::{bulk_velocity, Drive};
 use crate::engine::free_surface::{
-    BodyInputs, Cohesion, DetachedBodies, DetachedMomentum, FreeSurface, FreeSurfaceStage,
-    SurfaceTensionForm, Wetting,
+    Cohesion, DetachedBodies, DetachedMomentum, FreeSurface, FreeSurfaceStage, SurfaceTensionForm,
+    Wetting,
 };
 use crate::engine::gravity::Gravity;
 use crate::engine::kernel::{QuinticSpline, H_OVER_DR};
@@ -40,7 +43,7 @@ use crate::engine::operators::DivergenceForm;
 use crate::engine::ordering::Reordering;
 use crate::engine::predictor::{predict, PredictorTerms};
 use crate::engine::pressure::PressureStage;
-use crate::engine::projection::{Projection, ProjectionStage};
+use crate::engine::projection::ProjectionStage;
 use crate::engine::resolution::Resolution;
 use crate::engine::rheology::hourglass::HourglassControl;
 use crate::engine::rheology::{ConformationStage, Fluid};
@@ -53,6 +56,7 @@ use crate::engine::viscosity::{
 };
 use crate::engine::volume::VolumeRelaxation;
 use crate::engine::weakly_compressible::{MomentumInputs, WeakStage};
+use integrator::{Correction, Integrator, ProjectionMethod, WeakMethod};
 use rayon::prelude::*;
 
 /// Everything needed to start a simulation.
@@ -110,10 +114,8 @@ struct Stages {
     velocity_star: Vec<Vec2>,
     /// The rigid discs and the walls they own.
     bodies: Bodies,
-    projection: ProjectionStage,
-    pressure: PressureStage,
-    /// The weakly compressible scheme, which replaces Steps 5–6 (None: the projection).
-    weak: Option<WeakStage>,
+    /// Steps 5–6: the projection or the weakly compressible scheme.
+    integrator: Box<dyn Integrator>,
     /// A surface tension as a cohesion force (None: none, or the capillary jump σκ).
     cohesion: Option<Cohesion>,
     /// Free surfaces under the projection: the detached bodies whose momentum the step
@@ -194,11 +196,12 @@ impl Simulation {
             &mut walls,
         );
         let hood = neighbourhood(walls, &scheme, (setup.spacing, setup.resolution));
-        // Free surfaces take the positive divergence form of (20) with L = I.
-        let form = if setup.free_surface {
-            DivergenceForm::Positive
-        } else {
-            DivergenceForm::Negative
+        // Free surfaces take the positive divergence form of (20) with L = I; the weakly
+        // compressible scheme sums the polymer stress in its own momentum form.
+        let form = match scheme.method {
+            Method::WeaklyCompressible(_) => None,
+            Method::Projection if setup.free_surface => Some(DivergenceForm::Positive),
+            Method::Projection => Some(DivergenceForm::Negative),
         };
         let stages = Stages {
             reordering: Reordering::new(scheme.reorder, scheme.frame.moves_particles()),
@@ -228,21 +231,7 @@ impl Simulation {
             nu: scheme.viscosity_nu(&fluid),
             velocity_star: Vec::new(),
             bodies,
-            projection: ProjectionStage::new(
-                scheme.projection,
-                PressureStabilisation::new(fluid.density, fluid.viscosity, kernel.h()),
-            ),
-            pressure: PressureStage::new(
-                scheme.ppe,
-                scheme.frame,
-                VolumeRelaxation::new(scheme.ppe.volume_relaxation, &kernel, setup.spacing),
-            ),
-            weak: match scheme.method {
-                Method::Projection => None,
-                Method::WeaklyCompressible(w) => {
-                    Some(WeakStage::new(w, fluid.density, &kernel, setup.spacing))
-                }
-            },
+            integrator: integrator(&scheme, &fluid, &kernel, setup.spacing),
             cohesion,
             detached: (setup.free_surface
                 && scheme.method == Method::Projection
@@ -320,11 +309,7 @@ impl Simulation {
             .viscosity
             .dt_limit(fluid, self.stages.nu, &inputs);
         let wave_speed = elastic_wave_speed(fluid, max_polymer_stress);
-        let acoustic = self
-            .stages
-            .weak
-            .as_ref()
-            .map_or(f64::INFINITY, |w| w.dt_limit(inputs.h, inputs.max_speed));
+        let acoustic = self.stages.integrator.dt_limit(inputs.h, inputs.max_speed);
         let dt = match self.scheme.time_step {
             Some(fixed) => fixed,
             None => (self.scheme.dt_factor * limit).min(acoustic),
@@ -396,7 +381,7 @@ impl Simulation {
             if let Some(inflow) = self.inflow.as_mut() {
                 order.apply_bool(&mut inflow.flags);
             }
-            self.stages.pressure.invalidate_preconditioner();
+            self.stages.integrator.invalidate_preconditioner();
             self.stages.viscous.invalidate_preconditioner();
         }
         self.timers
@@ -407,7 +392,7 @@ impl Simulation {
     /// own matrices, as a run continued from a checkpoint written now does: the run loop
     /// calls this at every checkpoint, which keeps continued runs bit-identical.
     pub fn reset_preconditioners(&mut self) {
-        self.stages.pressure.invalidate_preconditioner();
+        self.stages.integrator.invalidate_preconditioner();
         self.stages.viscous.invalidate_preconditioner();
     }
 
@@ -418,7 +403,7 @@ impl Simulation {
     pub fn restore_state(&mut self, state: State) {
         self.state = state;
         self.stages.hood.invalidate();
-        self.stages.pressure.configuration_changed();
+        self.stages.integrator.configuration_changed();
         self.stages.kinematics.clear();
         self.reset_preconditioners();
     }
@@ -429,9 +414,7 @@ impl Simulation {
             self.reorder();
         }
         let max_polymer_stress = self.max_polymer_stress();
-        if let Some(weak) = self.stages.weak.as_mut() {
-            weak.follow_polymer(max_polymer_stress);
-        }
+        self.stages.integrator.follow_polymer(max_polymer_stress);
         let (stable, wave_speed) = self.step_limit(max_polymer_stress);
         let dt = stable.min(dt_max);
         self.intermediate_positions(dt);
@@ -443,22 +426,12 @@ impl Simulation {
         self.constitutive_update(dt);
         self.shift_pressure(Gravity::reduce);
         self.wall_pressure();
-        let projected = self.predictor(dt).and_then(|iterations| {
-            if self.stages.weak.is_some() {
-                self.continuity(dt);
-                return Ok((iterations, None));
-            }
-            let report = self.pressure_poisson(dt)?;
-            self.projection(dt);
-            Ok((iterations, Some(report)))
-        });
+        let projected = self
+            .predictor(dt)
+            .and_then(|iterations| Ok((iterations, self.correct(dt)?)));
         self.shift_pressure(Gravity::restore);
         let (viscous_iterations, ppe) = projected?;
-        let density_deviation = self
-            .stages
-            .weak
-            .as_ref()
-            .map_or(0.0, |w| w.density_deviation());
+        let density_deviation = self.stages.integrator.density_deviation();
         self.final_positions(dt);
         self.move_bodies(dt);
         if self.drive != Drive::Constant {
@@ -479,7 +452,7 @@ impl Simulation {
             elastic_courant: dt * wave_speed / self.finest_h(),
             viscous_iterations,
             density_deviation,
-            sound_speed: self.stages.weak.as_ref().map_or(0.0, |w| w.sound_speed()),
+            sound_speed: self.stages.integrator.sound_speed(),
         })
     }
 
@@ -548,7 +521,7 @@ impl Simulation {
         let moving = self.scheme.frame.moves_particles();
         self.timers.time(Stage::Neighbours, || {
             if st.hood.update(moving, geometry, n) {
-                st.pressure.configuration_changed();
+                st.integrator.configuration_changed();
             }
         });
     }
@@ -593,11 +566,7 @@ impl Simulation {
             let dt = stage.span(s.previous_dt, dt);
             let inputs = (st.kinematics.constitutive(), &s.shift_velocity[..]);
             self.timers.time(Stage::Constitutive, || {
-                if st.weak.is_some() {
-                    stage.advance(fluid, dt, st.hood.parts(), inputs, &mut s.conformation)
-                } else {
-                    stage.update(fluid, dt, st.hood.parts(), inputs, &mut s.conformation)
-                }
+                stage.update(fluid, dt, st.hood.parts(), inputs, &mut s.conformation);
                 if let Some(control) = st.hourglass.as_mut() {
                     let Hood { list, sums, .. } = st.hood.parts();
                     let fields = (
@@ -631,18 +600,16 @@ impl Simulation {
                 }
                 (None, None) => None,
             };
-            let weak = st.weak.as_mut().map(|w| {
-                let inputs = MomentumInputs {
-                    hood,
-                    kernel,
-                    pressure: &s.pressure,
-                    velocity_ext: &st.kinematics.velocity_ext,
-                    conformation: &s.conformation,
-                    fluid,
-                    grad_u: &st.kinematics.grad_u,
-                };
-                w.momentum(&inputs)
-            });
+            let inputs = MomentumInputs {
+                hood,
+                kernel,
+                pressure: &s.pressure,
+                velocity_ext: &st.kinematics.velocity_ext,
+                conformation: &s.conformation,
+                fluid,
+                grad_u: &st.kinematics.grad_u,
+            };
+            let own = st.integrator.momentum(&inputs);
             let terms = PredictorTerms {
                 grad_u: &st.kinematics.grad_u,
                 u_ps: &s.shift_velocity,
@@ -650,15 +617,11 @@ impl Simulation {
                     .viscous
                     .explicit_laplacian(hood.list, hood.sums, &st.kinematics.velocity_ext, factor)
                     .map(|(laplacian, weight)| (laplacian, weight * st.nu)),
-                stress: st
-                    .conformation
-                    .as_ref()
-                    .filter(|_| weak.is_none())
-                    .map(|c| c.stress_divergence()),
-                weak,
+                stress: st.conformation.as_ref().and_then(|c| c.stress_divergence()),
+                weak: own.weak,
                 surface_force,
                 body_force,
-                old_pressure_gradient: st.projection.old_pressure_gradient(hood, &s.pressure),
+                old_pressure_gradient: own.old_pressure_gradient,
                 inv_rho,
             };
             predict(&terms, &s.velocity, dt, &mut st.velocity_star);
@@ -685,98 +648,28 @@ impl Simulation {
         Ok(reports.map_or(0, |[x, y]| x.iterations + y.iterations))
     }
 
-    /// Step 5: the pressure Poisson equation (25), with Dirichlet rows on a free surface.
-    fn pressure_poisson(&mut self, dt: f64) -> Result<rheosph_solver::SolveReport, Breakdown> {
-        let (st, s, fluid) = (&mut self.stages, &mut self.state, &self.fluid);
-        let (gravity, rho_g) = (self.scheme.gravity, fluid.density * s.body_force);
-        let buffer = buffer_flags(&self.inflow);
-        let ahead = if self.scheme.frame.moves_particles() {
-            dt
-        } else {
-            0.0
-        };
-        self.timers.time(Stage::PpeAssembly, || {
-            let hood = st.hood.parts();
-            let wall_pressure = st.projection.kind == Projection::Standard;
-            let continued = wall_pressure.then_some(dt / fluid.density);
-            st.pressure.divergence(hood, &st.velocity_star, continued);
-            let stabilised = (hood.list, hood.sums);
-            let scales = (fluid.density, dt);
-            let divergence = st.pressure.divergence_mut();
-            st.projection
-                .stabilise(stabilised, &s.pressure, scales, divergence);
-            let dirichlet = st.free_surface.as_mut().map(|fs| {
-                let factor = st.shear_viscosity.as_ref().map_or(&[][..], |v| v.factor());
-                fs.dirichlet_pressure(
-                    (hood.list, hood.sums, &st.hood.points),
-                    (fluid, factor),
-                    (st.pressure.velocity_star_ext(), (&s.velocity, ahead)),
-                    &s.conformation,
-                    buffer,
-                );
-                let n = s.pressure.len();
-                gravity.reduce(fs.values_mut(), &st.hood.points[..n], rho_g);
-                st.projection
-                    .dirichlet_for_unknown(fs.values_mut(), &s.pressure);
-                fs.choose_rows(hood.list, &st.hood.points, hood.ghosts);
-                fs.dirichlet()
-            });
-            let rows = dirichlet.unwrap_or_default();
-            st.pressure
-                .assemble(hood, fluid.density, dt, rows, wall_pressure);
-            let surface = st.free_surface.as_ref().map(|fs| &fs.surface);
-            let support = |i| {
-                surface.map_or(crate::engine::volume::RowSupport::Full, |s| {
-                    s.row_support(i)
-                })
-            };
-            st.pressure
-                .relax_volume((hood.list, hood.sums), support, dt);
-        });
-        let dirichlet = st
-            .free_surface
-            .as_ref()
-            .is_some_and(|fs| fs.dirichlet().pin_level());
-        let unknown = st
-            .projection
-            .unknown(&mut s.pressure, self.scheme.ppe.warm_start);
-        self.timers
-            .time(Stage::PpeSolve, || {
-                st.pressure.solve(unknown, dirichlet, &self.scales, dt)
-            })
-            .map_err(|e| Breakdown {
-                reason: format!("pressure Poisson solve failed: {e}"),
-            })
-    }
-
-    /// The weakly compressible scheme's Steps 5–6: p^{n+1} from continuity with u^{n+1} (the
-    /// predictor's u*, which it is), see [`crate::engine::weakly_compressible`].
-    fn continuity(&mut self, dt: f64) {
-        let (st, s, kernel) = (&mut self.stages, &mut self.state, &self.kernel);
-        let Some(weak) = st.weak.as_mut() else {
-            return;
-        };
-        if let Some(inflow) = self.inflow.as_ref() {
-            inflow.prescribe(&mut st.velocity_star, inflow.velocity);
-        }
-        let hood = st.hood.parts();
-        if let Some(fs) = st.free_surface.as_mut() {
-            // Under `contact_line_rows = "held"` (the only choice besides `surface` that the
-            // weakly compressible scheme takes) the surface particles within δr/4 of a wall
-            // lose their velocity into it; under `surface` nothing is held.
-            fs.choose_rows(hood.list, &st.hood.points, hood.ghosts);
-            fs.hold_off_walls(&mut st.velocity_star);
-        }
-        let shift = self.scheme.shifting.then_some(&s.shift_velocity[..]);
-        self.timers.time(Stage::Projection, || {
-            weak.continuity(
-                hood,
-                kernel,
-                (&st.velocity_star, shift),
-                &mut s.pressure,
-                dt,
-            )
-        });
+    /// Steps 5–6 by the chosen integrator: u^{n+1} over u*, p^{n+1}; the PPE's report.
+    fn correct(&mut self, dt: f64) -> Result<Option<rheosph_solver::SolveReport>, Breakdown> {
+        let st = &mut self.stages;
+        let factor = st.shear_viscosity.as_ref().map_or(&[][..], |v| v.factor());
+        st.integrator.correct(Correction {
+            hood: &st.hood,
+            free_surface: st.free_surface.as_mut(),
+            detached: st.detached.as_mut(),
+            viscosity_factor: factor,
+            velocity_star: &mut st.velocity_star,
+            state: &mut self.state,
+            fluid: &self.fluid,
+            kernel: &self.kernel,
+            domain: &self.domain,
+            inflow: self.inflow.as_ref(),
+            frame: self.scheme.frame,
+            gravity: self.scheme.gravity,
+            scales: &self.scales,
+            shifting: self.scheme.shifting,
+            timers: &mut self.timers,
+            dt,
+        })
     }
 
     /// Before step 4, under [`WallPressure::Momentum`]: the ghosts' pressure offsets from
@@ -791,48 +684,14 @@ impl Simulation {
         let rho_g = self.fluid.density * g;
         let n = self.state.position.len();
         force.clear();
-        match st.conformation.as_ref().filter(|_| st.weak.is_none()) {
-            Some(c) => force.extend(c.stress_divergence().iter().map(|d| d + rho_g)),
+        match st.conformation.as_ref().and_then(|c| c.stress_divergence()) {
+            Some(div_phi) => force.extend(div_phi.iter().map(|d| d + rho_g)),
             None => force.resize(n, rho_g),
         }
         let hood = &mut st.hood;
         hood.ghosts.set_pressure_gradient(&hood.points, force);
         self.timers
             .add(Stage::Predictor, t0.elapsed().as_secs_f64());
-    }
-
-    /// Step 6: u^{n+1} = u* − (δt/ρ)∇p^{n+1} (or ∇ of the increment), written over u*.
-    fn projection(&mut self, dt: f64) {
-        let (st, s) = (&mut self.stages, &mut self.state);
-        let (inflow, dt_over_rho) = (&self.inflow, dt / self.fluid.density);
-        let domain = &self.domain;
-        self.timers.time(Stage::Projection, || {
-            let full = st.projection.kind == Projection::Standard;
-            let solved = st.projection.update_pressure(&mut s.pressure);
-            st.pressure.project(
-                st.hood.parts(),
-                (solved, full),
-                dt_over_rho,
-                &mut st.velocity_star,
-            );
-            if let Some(fs) = st.free_surface.as_mut() {
-                fs.hold_off_walls(&mut st.velocity_star);
-            }
-            if let Some(inflow) = inflow.as_ref() {
-                inflow.prescribe(&mut st.velocity_star, inflow.velocity);
-            }
-            if let Some(bodies) = st.detached.as_mut() {
-                let n = s.velocity.len();
-                let inputs = BodyInputs {
-                    list: &st.hood.list,
-                    points: &st.hood.points[..n],
-                    buffer: buffer_flags(inflow),
-                    domain,
-                };
-                let pair = (&s.velocity[..], &mut st.velocity_star[..]);
-                bodies.conserve(&inputs, pair, s.body_force, dt);
-            }
-        });
     }
 
     /// Step 7: r^{n+1}, eq. (27); u^{n+1} becomes the state; an inflow feeds new particles.
@@ -901,9 +760,7 @@ impl Simulation {
             + st.cohesion.as_ref().map_or(0, Cohesion::heap_bytes)
             + st.detached.as_ref().map_or(0, DetachedBodies::heap_bytes)
             + b(&st.velocity_star)
-            + st.projection.heap_bytes()
-            + st.pressure.heap_bytes()
-            + st.weak.as_ref().map_or(0, |w| w.heap_bytes())
+            + st.integrator.heap_bytes()
     }
 
     /// The fluid volume Σ m_i/ρ_i: N δV for the projection (incompressible particles), and
@@ -923,10 +780,7 @@ impl Simulation {
         if !local.is_empty() {
             return crate::engine::reduce::blocked_sum(local.len(), |i| local[i].volume);
         }
-        match self.stages.weak.as_ref() {
-            Some(w) => w.volume(&self.state.pressure) * dv,
-            None => self.particles() as f64 * dv,
-        }
+        self.stages.integrator.volume(&self.state.pressure) * dv
     }
 
     /// Neighbour pairs of the last step (for memory and cost reports).
@@ -941,12 +795,12 @@ impl Simulation {
 
     /// LU factorisations of the PPE so far (an Eulerian run factorises once).
     pub fn ppe_factorisations(&self) -> usize {
-        self.stages.pressure.factorisations()
+        self.stages.integrator.factorisations()
     }
 
     /// Stored PPE entries of the last step.
     pub fn ppe_nonzeros(&self) -> usize {
-        self.stages.pressure.nnz()
+        self.stages.integrator.nnz()
     }
 
     /// The free-surface sets and normals of the last step (free-surface scenes after their
@@ -1003,6 +857,35 @@ impl Simulation {
     /// The solid walls that create mirror particles.
     pub fn walls(&self) -> &[crate::engine::boundary::Wall] {
         &self.stages.hood.ghosts.walls
+    }
+}
+
+/// Steps 5–6 as `scheme.method` chooses.
+fn integrator(
+    scheme: &Scheme,
+    fluid: &Fluid,
+    kernel: &QuinticSpline,
+    spacing: f64,
+) -> Box<dyn Integrator> {
+    match scheme.method {
+        Method::Projection => Box::new(ProjectionMethod::new(
+            ProjectionStage::new(
+                scheme.projection,
+                PressureStabilisation::new(fluid.density, fluid.viscosity, kernel.h()),
+            ),
+            PressureStage::new(
+                scheme.ppe,
+                scheme.frame,
+                VolumeRelaxation::new(scheme.ppe.volume_relaxation, kernel, spacing),
+            ),
+            scheme.ppe,
+        )),
+        Method::WeaklyCompressible(w) => Box::new(WeakMethod::new(WeakStage::new(
+            w,
+            fluid.density,
+            kernel,
+            spacing,
+        ))),
     }
 }
 
