@@ -18,6 +18,17 @@ pub enum Frame {
     Eulerian,
 }
 
+/// The velocities that move a particle over a step, eq. (27).
+#[derive(Clone, Copy)]
+pub struct StepVelocities<'a> {
+    /// u^n.
+    pub old: &'a [Vec2],
+    /// u^{n+1}.
+    pub new: &'a [Vec2],
+    /// The shift velocity u_ps.
+    pub shift: &'a [Vec2],
+}
+
 impl Frame {
     /// Whether the particle configuration changes from step to step (and with it the
     /// neighbour lists, kernel sums and the PPE matrix).
@@ -53,14 +64,15 @@ impl Frame {
         self,
         domain: &Domain,
         position: &mut [Vec2],
-        (u_old, u_new, u_ps): (&[Vec2], &[Vec2], &[Vec2]),
+        u: StepVelocities,
         dt: f64,
     ) {
         if self == Frame::Eulerian {
             return;
         }
+        let StepVelocities { old, new, shift } = u;
         position.par_iter_mut().enumerate().for_each(|(i, r)| {
-            *r = domain.wrap(*r + 0.5 * dt * (u_old[i] + u_new[i] + 2.0 * u_ps[i]));
+            *r = domain.wrap(*r + 0.5 * dt * (old[i] + new[i] + 2.0 * shift[i]));
         });
     }
 }

@@ -31,6 +31,28 @@ pub struct Hood<'a> {
     pub ghosts: &'a Ghosts,
 }
 
+/// Where the particles are searched and summed: the domain, the kernel and the lattice
+/// spacing δr.
+#[derive(Clone, Copy)]
+pub struct Geometry<'a> {
+    pub domain: &'a Domain,
+    pub kernel: &'a QuinticSpline,
+    pub spacing: f64,
+}
+
+#[cfg(test)]
+impl<'a> Hood<'a> {
+    /// The lists and sums of a particle set without walls, for unit tests.
+    pub fn without_walls(list: &'a NeighbourList, sums: &'a KernelSums) -> Self {
+        static NONE: std::sync::LazyLock<Ghosts> = std::sync::LazyLock::new(Ghosts::default);
+        Self {
+            list,
+            sums,
+            ghosts: &NONE,
+        }
+    }
+}
+
 /// `[scheme.neighbours]`: the neighbour search and the particles' order in memory. Results do
 /// not depend on them, only the time per step.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
@@ -181,19 +203,19 @@ impl Neighbourhood {
 
     /// Mirrors, lists and kernel sums for the first `n` points (the fluid particles at r*),
     /// when `moving` or not yet built. Returns whether the configuration was rebuilt.
-    pub fn update(
-        &mut self,
-        moving: bool,
-        (domain, kernel, spacing): (&Domain, &QuinticSpline, f64),
-        n: usize,
-    ) -> bool {
+    pub fn update(&mut self, moving: bool, geometry: Geometry, n: usize) -> bool {
+        let Geometry {
+            domain,
+            kernel,
+            spacing,
+        } = geometry;
         if !moving && self.valid {
             return false;
         }
         self.ghosts.domain = Some(*domain);
         let support = kernel.support();
         if let Resolution::Graded(graded) = std::mem::take(&mut self.resolution) {
-            self.update_graded(&graded, (domain, kernel, spacing), n);
+            self.update_graded(&graded, geometry, n);
             self.resolution = Resolution::Graded(graded);
             return true;
         }
@@ -227,12 +249,12 @@ impl Neighbourhood {
     /// [`Self::update`] under graded resolution: the search with the bulk's support, each
     /// row then cut to its own (3h_i), and the kernel sums with each row's kernel and each
     /// point's volume (a mirror's its parent's, times its wall's ratio).
-    fn update_graded(
-        &mut self,
-        graded: &Graded,
-        (domain, kernel, spacing): (&Domain, &QuinticSpline, f64),
-        n: usize,
-    ) {
+    fn update_graded(&mut self, graded: &Graded, geometry: Geometry, n: usize) {
+        let Geometry {
+            domain,
+            kernel,
+            spacing,
+        } = geometry;
         let support = kernel.support();
         self.local.clear();
         self.local

@@ -205,14 +205,14 @@ impl PressureStage {
     /// the rows with a full support (`support`: outside the free surface's FS and NS).
     pub fn relax_volume(
         &mut self,
-        (list, sums): (&NeighbourList, &KernelSums),
+        hood: Hood,
         support: impl Fn(usize) -> RowSupport + Sync,
         dt: f64,
     ) {
         let Some(volume) = self.volume else {
             return;
         };
-        volume.add_source((list, sums), support, dt, &mut self.system.rhs);
+        volume.add_source(hood, support, dt, &mut self.system.rhs);
     }
 
     /// The particle configuration changed: the matrix (and any LU factors) must be rebuilt.

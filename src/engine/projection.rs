@@ -12,8 +12,6 @@
 
 use crate::engine::math::Vec2;
 use crate::engine::neighbourhood::Hood;
-use crate::engine::neighbours::NeighbourList;
-use crate::engine::operators::KernelSums;
 use crate::engine::stabilisation::PressureStabilisation;
 use rayon::prelude::*;
 
@@ -65,13 +63,13 @@ impl ProjectionStage {
     /// divergence ∇·u* (nothing for the standard projection).
     pub fn stabilise(
         &mut self,
-        (list, sums): (&NeighbourList, &KernelSums),
+        hood: Hood,
         pressure: &[f64],
         (density, dt): (f64, f64),
         divergence: &mut [f64],
     ) {
         if let Some(stabilisation) = self.stabilisation.as_mut() {
-            stabilisation.add((list, sums), pressure, (density, dt), divergence);
+            stabilisation.add(hood, pressure, (density, dt), divergence);
         }
     }
 

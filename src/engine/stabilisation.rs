@@ -33,8 +33,7 @@
 //! With implicit viscosity in creeping flow τ ≪ δt and τ_δt = τ to within a few per cent.
 
 use crate::engine::math::{Mat2, Vec2};
-use crate::engine::neighbours::NeighbourList;
-use crate::engine::operators::KernelSums;
+use crate::engine::neighbourhood::Hood;
 use rayon::prelude::*;
 
 /// The stabilisation's time scale and buffers.
@@ -87,14 +86,15 @@ impl PressureStabilisation {
     /// Adds `τ_δt (S p)_i / ρ` to each fluid particle's divergence (module docs).
     pub fn add(
         &mut self,
-        (list, sums): (&NeighbourList, &KernelSums),
+        hood: Hood,
         pressure: &[f64],
         (density, dt): (f64, f64),
         divergence: &mut [f64],
     ) {
+        let Hood { list, sums, .. } = hood;
         let n = pressure.len();
         self.gradient.resize(n, Vec2::zeros());
-        fluid_gradient((list, sums), pressure, &mut self.gradient);
+        fluid_gradient(hood, pressure, &mut self.gradient);
         let g = &self.gradient;
         let uniform = self.time_at(dt) / density;
         let time = self.time;
@@ -122,7 +122,8 @@ impl PressureStabilisation {
 /// The Bonet–Lok gradient of `p` over each particle's fluid neighbours only, with the
 /// correction of that subset: `B⁻¹ Σ_j (p_j − p_i) ∇W_ij δV`, `B = Σ_j r_ji ⊗ ∇W_ij δV`
 /// (zero where B is singular).
-pub fn fluid_gradient((list, sums): (&NeighbourList, &KernelSums), p: &[f64], out: &mut [Vec2]) {
+pub fn fluid_gradient(hood: Hood, p: &[f64], out: &mut [Vec2]) {
+    let Hood { list, sums, .. } = hood;
     let n = p.len();
     out.par_iter_mut().enumerate().for_each(|(i, g)| {
         let mut b = Mat2::zeros();
@@ -146,7 +147,8 @@ pub fn fluid_gradient((list, sums): (&NeighbourList, &KernelSums), p: &[f64], ou
 mod tests {
     use super::*;
     use crate::engine::kernel::QuinticSpline;
-    use crate::engine::neighbours::{Domain, NeighbourSearch};
+    use crate::engine::neighbours::{Domain, NeighbourList, NeighbourSearch};
+    use crate::engine::operators::KernelSums;
 
     /// A lattice of `m × m` particles of spacing δr, not periodic (truncated supports at its
     /// edges), with its lists and kernel sums.
@@ -175,7 +177,7 @@ mod tests {
         let (points, list, sums) = lattice(12);
         let p: Vec<f64> = points.iter().map(|r| 3.0 * r.x - 2.0 * r.y + 1.0).collect();
         let mut g = vec![Vec2::zeros(); p.len()];
-        fluid_gradient((&list, &sums), &p, &mut g);
+        fluid_gradient(Hood::without_walls(&list, &sums), &p, &mut g);
         for gi in &g {
             assert!((gi - Vec2::new(3.0, -2.0)).norm() < 1e-10, "{gi}");
         }
@@ -190,7 +192,12 @@ mod tests {
         let mut stab = PressureStabilisation::new(1.0, 1.0, 0.13);
         let linear: Vec<f64> = points.iter().map(|r| 5.0 * r.x + r.y).collect();
         let mut d = vec![0.0; n];
-        stab.add((&list, &sums), &linear, (1.0, 1.0), &mut d);
+        stab.add(
+            Hood::without_walls(&list, &sums),
+            &linear,
+            (1.0, 1.0),
+            &mut d,
+        );
         assert!(d.iter().all(|x| x.abs() < 1e-9), "{:?}", &d[..4]);
         let board: Vec<f64> = (0..n)
             .map(|k| {
@@ -202,7 +209,12 @@ mod tests {
             })
             .collect();
         let mut d = vec![0.0; n];
-        stab.add((&list, &sums), &board, (1.0, 1.0), &mut d);
+        stab.add(
+            Hood::without_walls(&list, &sums),
+            &board,
+            (1.0, 1.0),
+            &mut d,
+        );
         // The middle particle, in full support: the defect equals the PPE's row times p.
         let i = 8 * 16 + 8;
         let row: f64 = list

@@ -33,6 +33,7 @@
 //! (validation pages, *Capillarity*).
 
 use crate::engine::kernel::QuinticSpline;
+use crate::engine::neighbourhood::Hood;
 use crate::engine::neighbours::NeighbourList;
 use crate::engine::operators::KernelSums;
 use rayon::prelude::*;
@@ -84,11 +85,12 @@ impl VolumeRelaxation {
     /// (its compressive part alone on a truncated support, nothing on a Dirichlet row).
     pub fn add_source(
         &self,
-        (list, sums): (&NeighbourList, &KernelSums),
+        hood: Hood,
         support: impl Fn(usize) -> RowSupport + Sync,
         dt: f64,
         rhs: &mut [f64],
     ) {
+        let Hood { list, sums, .. } = hood;
         let scale = self.alpha / (dt * dt);
         rhs.par_iter_mut().enumerate().for_each(|(i, b)| {
             let error = || self.concentration(list, sums, i) / self.reference - 1.0;
@@ -154,7 +156,7 @@ mod tests {
                 0 => RowSupport::Dirichlet,
                 _ => RowSupport::Full,
             };
-            relax.add_source((&list, &sums), rows, 0.1, &mut rhs);
+            relax.add_source(Hood::without_walls(&list, &sums), rows, 0.1, &mut rhs);
             rhs
         };
         let at_rest = source(1.0);
@@ -201,7 +203,7 @@ mod tests {
                 crate::engine::free_surface::surface_of(&domain, &points, dr);
             let mut rhs = vec![0.0; points.len()];
             let rows = |i| surface.row_support(i);
-            relax.add_source((&list, &sums), rows, 0.1, &mut rhs);
+            relax.add_source(Hood::without_walls(&list, &sums), rows, 0.1, &mut rhs);
             (rhs, surface)
         };
         // The middle column, one and two rows under the top.

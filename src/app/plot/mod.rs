@@ -170,7 +170,7 @@ pub fn draw(path: &Path, format: FigureFormat, chart: &Chart, curves: &[Curve]) 
 
     let axes = Axes {
         x: (x0..x1, ticks(x0, x1, chart.log_x)),
-        y: (y0..y1, y_ticks(chart, (y0, y1))),
+        y: (y0..y1, y_ticks(chart, y0..y1)),
     };
     let longest = chart.y_categories.iter().map(|n| n.chars().count()).max();
     let width = longest.map_or(800, |n| 800 + 7 * n as u32);
@@ -236,9 +236,9 @@ impl Ranged for Ticked {
 }
 
 /// The y ticks: one per category, or numeric.
-fn y_ticks(chart: &Chart, (lo, hi): (f64, f64)) -> Ticks {
+fn y_ticks(chart: &Chart, range: std::ops::Range<f64>) -> Ticks {
     if chart.y_categories.is_empty() {
-        return ticks(lo, hi, chart.log_y);
+        return ticks(range.start, range.end, chart.log_y);
     }
     Ticks {
         major: (0..chart.y_categories.len()).map(|k| k as f64).collect(),
@@ -418,8 +418,8 @@ pub fn draw_field(path: &Path, format: FigureFormat, field: &Field) -> Result<()
         path,
         format,
         size,
-        |root| draw_particles(root, field, plot_w, (lo, hi)),
-        |root| draw_particles(root, field, plot_w, (lo, hi)),
+        |root| draw_particles(root, field, plot_w, lo..hi),
+        |root| draw_particles(root, field, plot_w, lo..hi),
     )
 }
 
@@ -427,11 +427,12 @@ fn draw_particles<DB: DrawingBackend>(
     root: DrawingArea<DB, Shift>,
     field: &Field,
     plot_w: u32,
-    (lo, hi): (f64, f64),
+    colour_range: std::ops::Range<f64>,
 ) -> Result<()>
 where
     DB::ErrorType: 'static,
 {
+    let (lo, hi) = (colour_range.start, colour_range.end);
     let ((x0, x1), (y0, y1)) = field.extent;
     root.fill(&WHITE)?;
     let (left, right) = root.split_horizontally(plot_w);

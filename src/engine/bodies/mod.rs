@@ -200,16 +200,14 @@ impl Disc {
         }
     }
 
-    /// Advances V and Ω over one step under `load`, a contact force, the body force `g`,
-    /// the sedimentation gravity `gs` and the return flow's pressure gradient `grad`
-    /// (x component; module docs).
-    fn accelerate(
-        &mut self,
-        load: &Load,
-        contact: Vec2,
-        (g, gs, grad): (Vec2, Vec2, f64),
-        c: &Coupling,
-    ) {
+    /// Advances V and Ω over one step under `load`, a contact force and the `forcing`
+    /// (module docs).
+    fn accelerate(&mut self, load: &Load, contact: Vec2, forcing: Forcing, c: &Coupling) {
+        let Forcing {
+            body_force: g,
+            gravity: gs,
+            return_gradient: grad,
+        } = forcing;
         let (r, dt) = (self.circle.radius, c.dt);
         let k = Self::response(c);
         let spin = |d: &Self| d.spin + dt * load.torque() / (d.inertia() + dt * k * r.powi(3));
@@ -265,14 +263,37 @@ pub struct Bodies {
     tensor: TensorMirror,
 }
 
+/// The discs of a scene with their contact model and the sedimentation gravity g_s (zero:
+/// none).
+pub struct DiscSet {
+    pub discs: Vec<Disc>,
+    pub contact: Option<Contact>,
+    pub gravity: Vec2,
+}
+
+/// What accelerates a free disc besides its load and contacts: the body force g, the
+/// sedimentation gravity g_s on its buoyant mass, and the return flow's pressure gradient
+/// G (x component).
+#[derive(Clone, Copy)]
+struct Forcing {
+    body_force: Vec2,
+    gravity: Vec2,
+    return_gradient: f64,
+}
+
 impl Bodies {
     /// Appends the discs' walls to `walls`.
     pub fn new(
-        (discs, contact, gravity): (Vec<Disc>, Option<Contact>, Vec2),
+        set: DiscSet,
         base_force: Vec2,
         tensor: TensorMirror,
         walls: &mut Vec<Wall>,
     ) -> Self {
+        let DiscSet {
+            discs,
+            contact,
+            gravity,
+        } = set;
         let first = walls.len();
         walls.extend(discs.iter().map(|d| d.wall(tensor)));
         Self {
@@ -322,7 +343,8 @@ impl Bodies {
     /// g_s ≠ 0.
     pub fn hold_return_flow(
         &mut self,
-        (velocity, particle_volume): (&mut [Vec2], f64),
+        velocity: &mut [Vec2],
+        particle_volume: f64,
         rho_f: f64,
         g: Vec2,
         dt: f64,
@@ -375,7 +397,12 @@ impl Bodies {
                 &|x| disc.surface_velocity(x),
                 TRACTION_SAMPLES,
             );
-            d.accelerate(load, contact, (g_own, self.gravity, gradient), coupling);
+            let forcing = Forcing {
+                body_force: g_own,
+                gravity: self.gravity,
+                return_gradient: gradient,
+            };
+            d.accelerate(load, contact, forcing, coupling);
         }
         let before: Vec<Vec2> = self.discs.iter().map(|d| d.velocity).collect();
         if let Some(contact) = &self.contact {

@@ -19,7 +19,11 @@ pub(crate) fn surface_of(
     domain: &crate::engine::neighbours::Domain,
     points: &[Vec2],
     dr: f64,
-) -> (NeighbourList, KernelSums, FreeSurface) {
+) -> (
+    NeighbourList,
+    crate::engine::operators::KernelSums,
+    FreeSurface,
+) {
     let kernel = QuinticSpline::for_spacing(dr);
     let mut list = NeighbourList::default();
     crate::engine::neighbours::NeighbourSearch::new().build(
@@ -29,7 +33,7 @@ pub(crate) fn surface_of(
         kernel.support(),
         &mut list,
     );
-    let mut sums = KernelSums::default();
+    let mut sums = crate::engine::operators::KernelSums::default();
     sums.update(&list, &kernel, dr * dr);
     let mut fs = FreeSurface::default();
     fs.detect(&list, &sums, &kernel);
@@ -47,8 +51,8 @@ pub use wetting::{ContactAngleAt, ContactCurvature, Wetting, WettingSettings};
 use crate::engine::boundary::Ghosts;
 use crate::engine::kernel::QuinticSpline;
 use crate::engine::math::{Sym2, Vec2};
+use crate::engine::neighbourhood::Hood;
 use crate::engine::neighbours::NeighbourList;
-use crate::engine::operators::KernelSums;
 use crate::engine::pressure::SurfaceRows;
 use crate::engine::rheology::Fluid;
 use serde::{Deserialize, Serialize};
@@ -218,6 +222,26 @@ pub struct SurfaceOptions {
     pub indicator: SurfaceIndicator,
 }
 
+/// What the Dirichlet pressure of Step 5 reads ([`FreeSurfaceStage::dirichlet_pressure`]).
+pub struct DirichletInputs<'a> {
+    pub hood: Hood<'a>,
+    /// The positions of the rows (fluid first).
+    pub points: &'a [Vec2],
+    pub fluid: &'a Fluid,
+    /// φ = η(γ̇)/η0 of a generalised Newtonian fluid (empty: uniform).
+    pub viscosity_factor: &'a [f64],
+    /// u* of the fluid, then of the ghosts.
+    pub velocity_star: &'a [Vec2],
+    /// u^n, and how far in time the positions lie ahead of r^n, for the curvature's time
+    /// level ([`CapillaryTimeLevel`]).
+    pub velocity: &'a [Vec2],
+    pub ahead: f64,
+    /// A^{n+½}.
+    pub conformation: &'a [Sym2],
+    /// Rows whose value is prescribed (an inflow buffer).
+    pub prescribed: &'a [bool],
+}
+
 /// The free-surface stage: the surface of the current step and its pressure rule.
 pub struct FreeSurfaceStage {
     /// FS and NS sets and normals of the last step.
@@ -297,7 +321,7 @@ impl FreeSurfaceStage {
     /// viscosity factor (empty: uniform); None unless the scheme asks for it.
     pub fn shear_free_accelerations(
         &mut self,
-        hood: (&NeighbourList, &KernelSums),
+        hood: Hood,
         grad_u: &[crate::engine::math::Mat2],
         viscosity: (f64, &[f64]),
     ) -> Option<&[Vec2]> {
@@ -314,10 +338,12 @@ impl FreeSurfaceStage {
     /// rows and are not near the surface themselves.
     pub fn detect(
         &mut self,
-        (list, sums, points): (&NeighbourList, &KernelSums, &[Vec2]),
+        hood: Hood,
+        points: &[Vec2],
         kernel: &QuinticSpline,
         prescribed: &[bool],
     ) {
+        let Hood { list, sums, .. } = hood;
         self.surface.detect(list, sums, kernel);
         if let Some(w) = self.tension.as_mut().and_then(|t| t.wetting.as_mut()) {
             if w.find_corners(points, list, &self.surface) {
@@ -335,28 +361,20 @@ impl FreeSurfaceStage {
     }
 
     /// Step 5: the Dirichlet pressure of every row (zero off the surface), from the
-    /// predictor's velocity u* (fluid values, then the ghosts'), a generalised Newtonian
-    /// fluid's viscosity factor φ = η(γ̇)/η0 (empty: uniform) and A^{n+½}, plus the
-    /// capillary jump σκ where the rule's value is trusted (not an inflow row, not a sparse
-    /// splash: [`pressure::MIN_SURFACE_NEIGHBOURS`]). `points` are the positions of the
-    /// rows (fluid first); `motion` the velocities uⁿ and how far in time the positions lie
-    /// ahead of rⁿ, for the curvature's time level ([`CapillaryTimeLevel`]).
-    pub fn dirichlet_pressure(
-        &mut self,
-        (list, sums, points): (&NeighbourList, &KernelSums, &[Vec2]),
-        (fluid, viscosity_factor): (&Fluid, &[f64]),
-        (velocity_star, motion): (&[Vec2], (&[Vec2], f64)),
-        conformation: &[Sym2],
-        prescribed: &[bool],
-    ) {
+    /// predictor's velocity u*, a generalised Newtonian fluid's viscosity factor and
+    /// A^{n+½} ([`DirichletInputs`]), plus the capillary jump σκ where the rule's value is
+    /// trusted (not an inflow row, not a sparse splash: [`pressure::MIN_SURFACE_NEIGHBOURS`]).
+    pub fn dirichlet_pressure(&mut self, d: &DirichletInputs) {
+        let Hood { list, sums, .. } = d.hood;
+        let prescribed = d.prescribed;
         let inputs = SurfaceInputs {
             list,
             sums,
             surface: &self.surface,
-            viscosity_factor,
-            velocity_star,
-            fluid,
-            conformation,
+            viscosity_factor: d.viscosity_factor,
+            velocity_star: d.velocity_star,
+            fluid: d.fluid,
+            conformation: d.conformation,
             prescribed,
         };
         self.dirichlet.clear();
@@ -367,7 +385,8 @@ impl FreeSurfaceStage {
                 !prescribed.get(i).copied().unwrap_or(false)
                     && list.range(i).len() >= pressure::MIN_SURFACE_NEIGHBOURS
             };
-            let at = (list, points);
+            let at = (list, d.points);
+            let motion = (d.velocity, d.ahead);
             tension.add_jump(at, motion, &self.surface, trusted, &mut self.dirichlet);
         }
     }

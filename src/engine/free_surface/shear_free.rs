@@ -30,8 +30,7 @@
 
 use crate::engine::free_surface::FreeSurface;
 use crate::engine::math::{Mat2, Vec2};
-use crate::engine::neighbours::NeighbourList;
-use crate::engine::operators::KernelSums;
+use crate::engine::neighbourhood::Hood;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -64,11 +63,12 @@ impl ShearFreeSurface {
     /// ν and the viscosity factor φ (fluid then ghosts; empty: uniform).
     pub fn accelerations(
         &mut self,
-        (list, sums): (&NeighbourList, &KernelSums),
+        hood: Hood,
         surface: &FreeSurface,
         grad_u: &[Mat2],
         (nu, factor): (f64, &[f64]),
     ) -> &[Vec2] {
+        let list = hood.list;
         self.acceleration.resize(list.rows(), Vec2::zeros());
         self.acceleration
             .par_iter_mut()
@@ -76,7 +76,7 @@ impl ShearFreeSurface {
             .for_each(|(i, a)| {
                 *a = if surface.on_surface[i] {
                     let phi = factor.get(i).copied().unwrap_or(1.0);
-                    nu * phi * tangential_flux(i, (list, sums), &grad_u[i])
+                    nu * phi * tangential_flux(i, hood, &grad_u[i])
                 } else {
                     Vec2::zeros()
                 };
@@ -86,7 +86,8 @@ impl ShearFreeSurface {
 }
 
 /// |c_i| (∂u_t/∂n) t with ∂u_t/∂n = −n·G t, n = −c_i/|c_i| (module docs).
-fn tangential_flux(i: usize, (list, sums): (&NeighbourList, &KernelSums), g: &Mat2) -> Vec2 {
+fn tangential_flux(i: usize, hood: Hood, g: &Mat2) -> Vec2 {
+    let Hood { list, sums, .. } = hood;
     let c: Vec2 = list
         .range(i)
         .map(|k| sums.laplacian_weight(list, k) * list.rij[k])
@@ -130,7 +131,7 @@ mod tests {
             let g = vec![Mat2::new(0.0, a, b, 0.0); n];
             let mut stage = ShearFreeSurface::default();
             stage
-                .accelerations((&list, &sums), &fs, &g, (1.0, &[]))
+                .accelerations(Hood::without_walls(&list, &sums), &fs, &g, (1.0, &[]))
                 .to_vec()
         };
         let sheared = flux(3.0, 0.0);

@@ -50,6 +50,23 @@ type LogStep = fn(&Model, &Sym2, &Sym2, &Sym2, &Mat2, f64, f64) -> Sym2;
 /// One direct update: model, A, u_ps·∇A, ∇u, δt, λ.
 type DirectStep = fn(&Model, &Sym2, &Sym2, &Mat2, f64, f64) -> Sym2;
 
+/// How the conformation is integrated: its variable, order in time and ALE remap.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ConformationChoice {
+    pub scheme: ConformationScheme,
+    pub integrator: ConformationIntegrator,
+    pub remap: Remap,
+}
+
+/// The velocity fields the constitutive update reads.
+#[derive(Clone, Copy)]
+pub struct Flow<'a> {
+    /// ∇u^n as the constitutive update sees it.
+    pub grad_u: &'a [Mat2],
+    /// The shift velocity u_ps, whose ALE transport remaps A, eq. (31).
+    pub u_ps: &'a [Vec2],
+}
+
 /// The constitutive stage of a viscoelastic fluid and its buffers.
 #[derive(Clone, Debug)]
 pub struct ConformationStage {
@@ -79,11 +96,16 @@ impl ConformationStage {
     /// The stage for `fluid` with EVSS weight α_V; `form` of the divergence (20), None when
     /// the time integrator takes the polymer stress in its own momentum sum.
     pub fn new(
-        (scheme, integrator, remap): (ConformationScheme, ConformationIntegrator, Remap),
+        choice: ConformationChoice,
         fluid: &Fluid,
         evss_alpha: f64,
         form: Option<DivergenceForm>,
     ) -> Self {
+        let ConformationChoice {
+            scheme,
+            integrator,
+            remap,
+        } = choice;
         Self {
             scheme,
             integrator,
@@ -138,10 +160,11 @@ impl ConformationStage {
         fluid: &Fluid,
         dt: f64,
         hood: Hood,
-        (grad_u, u_ps): (&[Mat2], &[Vec2]),
+        flow: Flow,
         conformation: &mut [Sym2],
     ) {
-        self.advance(fluid, dt, hood, (grad_u, u_ps), conformation);
+        self.advance(fluid, dt, hood, flow, conformation);
+        let grad_u = flow.grad_u;
         if let Some(form) = self.form {
             self.evss_divergence(fluid, hood, grad_u, conformation, form);
         }
@@ -153,9 +176,10 @@ impl ConformationStage {
         fluid: &Fluid,
         dt: f64,
         hood: Hood,
-        (grad_u, u_ps): (&[Mat2], &[Vec2]),
+        flow: Flow,
         conformation: &mut [Sym2],
     ) {
+        let Flow { grad_u, u_ps } = flow;
         let ghosts = hood.ghosts;
         let n = conformation.len();
         let lambda = fluid.relaxation_time;
@@ -337,11 +361,11 @@ mod tests {
         };
         let stage = |model| {
             ConformationStage::new(
-                (
-                    ConformationScheme::Log,
-                    ConformationIntegrator::Euler,
-                    Remap::Limited,
-                ),
+                ConformationChoice {
+                    scheme: ConformationScheme::Log,
+                    integrator: ConformationIntegrator::Euler,
+                    remap: Remap::Limited,
+                },
                 &fluid(model),
                 0.0,
                 Some(DivergenceForm::Negative),
@@ -408,11 +432,11 @@ mod tests {
             .collect();
         let growth = |remap, dt| {
             let mut stage = ConformationStage::new(
-                (
-                    ConformationScheme::Log,
-                    ConformationIntegrator::Euler,
+                ConformationChoice {
+                    scheme: ConformationScheme::Log,
+                    integrator: ConformationIntegrator::Euler,
                     remap,
-                ),
+                },
                 &fluid,
                 0.0,
                 Some(DivergenceForm::Negative),
@@ -426,7 +450,10 @@ mod tests {
                     sums: &sums,
                     ghosts: &ghosts,
                 },
-                (&grad_u, &u_ps),
+                Flow {
+                    grad_u: &grad_u,
+                    u_ps: &u_ps,
+                },
                 &mut a,
             );
             amplitude(&a) / amplitude(&start)

@@ -29,10 +29,17 @@
 //! ran through with the same stress noise as without the control (validation pages).
 
 use crate::engine::math::{Mat2, Sym2, Vec2};
-use crate::engine::neighbours::NeighbourList;
-use crate::engine::operators::KernelSums;
+use crate::engine::neighbourhood::Hood;
 use crate::engine::rheology::Fluid;
 use rayon::prelude::*;
+
+/// The fields the control reads: u^n, ∇u^n and the conformation at n + ½.
+#[derive(Clone, Copy)]
+pub struct HourglassFields<'a> {
+    pub velocity: &'a [Vec2],
+    pub grad_u: &'a [Mat2],
+    pub conformation: &'a [Sym2],
+}
 
 /// The pair penalty on the unresolved relative velocity (module docs), of strength ξ.
 #[derive(Clone, Debug)]
@@ -68,11 +75,17 @@ impl HourglassControl {
     /// the conformation at n + ½.
     pub fn add(
         &mut self,
-        (list, sums): (&NeighbourList, &KernelSums),
+        hood: Hood,
         fluid: &Fluid,
-        (velocity, grad_u, conformation): (&[Vec2], &[Mat2], &[Sym2]),
+        fields: HourglassFields,
         div_phi: &mut [Vec2],
     ) {
+        let HourglassFields {
+            velocity,
+            grad_u,
+            conformation,
+        } = fields;
+        let Hood { list, sums, .. } = hood;
         let n = velocity.len();
         self.stress.resize(n, Mat2::zeros());
         self.stress
@@ -106,7 +119,8 @@ impl HourglassControl {
 mod tests {
     use super::*;
     use crate::engine::kernel::QuinticSpline;
-    use crate::engine::neighbours::{Domain, NeighbourSearch};
+    use crate::engine::neighbours::{Domain, NeighbourList, NeighbourSearch};
+    use crate::engine::operators::KernelSums;
     use crate::engine::rheology::{Model, ViscosityLaw};
 
     /// A periodic unit box of n × n particles, each displaced pseudo-randomly by up to
@@ -168,7 +182,16 @@ mod tests {
         let stretched = vec![Sym2::new(1600.0, 40.0, 1.0); pts.len()];
         let mut control = HourglassControl::new(0.5, h);
         let mut acc = vec![Vec2::zeros(); pts.len()];
-        control.add((&list, &sums), &ucm(), (&u, &grad, &stretched), &mut acc);
+        control.add(
+            Hood::without_walls(&list, &sums),
+            &ucm(),
+            HourglassFields {
+                velocity: &u,
+                grad_u: &grad,
+                conformation: &stretched,
+            },
+            &mut acc,
+        );
         for (x, a) in pts.iter().zip(&acc) {
             if domain.min_image(*x - p).norm() < 0.2 {
                 assert!(a.norm() < 1e-9, "{a:?} at {x:?}");
@@ -196,7 +219,16 @@ mod tests {
             let mut control = HourglassControl::new(0.1, h);
             let mut acc = vec![Vec2::zeros(); u.len()];
             let conformation = vec![a; u.len()];
-            control.add((&list, &sums), &ucm(), (&u, &grad, &conformation), &mut acc);
+            control.add(
+                Hood::without_walls(&list, &sums),
+                &ucm(),
+                HourglassFields {
+                    velocity: &u,
+                    grad_u: &grad,
+                    conformation: &conformation,
+                },
+                &mut acc,
+            );
             let rates: Vec<f64> = acc.iter().zip(&u).map(|(a, u)| a.dot(u)).collect();
             assert!(rates.iter().all(|&r| r < 0.0));
             -rates.iter().sum::<f64>() / rates.len() as f64

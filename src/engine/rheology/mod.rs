@@ -14,7 +14,9 @@ pub mod remap;
 use crate::engine::kinematics::GradientChoice;
 use crate::engine::math::Sym2;
 use crate::engine::settings::{in_range, Invalid};
-pub use conformation::{ConformationIntegrator, ConformationScheme, ConformationStage};
+pub use conformation::{
+    ConformationChoice, ConformationIntegrator, ConformationScheme, ConformationStage, Flow,
+};
 pub use direct::{direct_step, direct_step_strang};
 pub use generalised_newtonian::{LawEntry, ViscosityLaw, LAWS};
 pub use log_conformation::{

@@ -6,7 +6,7 @@
 use super::Breakdown;
 use crate::engine::boundary::inflow::Inflow;
 use crate::engine::frame::Frame;
-use crate::engine::free_surface::{BodyInputs, DetachedBodies, FreeSurfaceStage};
+use crate::engine::free_surface::{BodyInputs, DetachedBodies, DirichletInputs, FreeSurfaceStage};
 use crate::engine::gravity::Gravity;
 use crate::engine::kernel::QuinticSpline;
 use crate::engine::math::Vec2;
@@ -142,17 +142,20 @@ impl ProjectionMethod {
             let wall_pressure = projection.kind == Projection::Standard;
             let continued = wall_pressure.then_some(dt / fluid.density);
             pressure.divergence(hood, c.velocity_star, continued);
-            let stabilised = (hood.list, hood.sums);
             let divergence = pressure.divergence_mut();
-            projection.stabilise(stabilised, &s.pressure, (fluid.density, dt), divergence);
+            projection.stabilise(hood, &s.pressure, (fluid.density, dt), divergence);
             let dirichlet = free_surface.as_mut().map(|fs| {
-                fs.dirichlet_pressure(
-                    (hood.list, hood.sums, points),
-                    (fluid, factor),
-                    (pressure.velocity_star_ext(), (&s.velocity, ahead)),
-                    &s.conformation,
-                    buffer,
-                );
+                fs.dirichlet_pressure(&DirichletInputs {
+                    hood,
+                    points,
+                    fluid,
+                    viscosity_factor: factor,
+                    velocity_star: pressure.velocity_star_ext(),
+                    velocity: &s.velocity,
+                    ahead,
+                    conformation: &s.conformation,
+                    prescribed: buffer,
+                });
                 let n = s.pressure.len();
                 gravity.reduce(fs.values_mut(), &points[..n], rho_g);
                 projection.dirichlet_for_unknown(fs.values_mut(), &s.pressure);
@@ -163,7 +166,7 @@ impl ProjectionMethod {
             pressure.assemble(hood, fluid.density, dt, rows, wall_pressure);
             let surface = free_surface.as_ref().map(|fs| &fs.surface);
             let support = |i| surface.map_or(RowSupport::Full, |s| s.row_support(i));
-            pressure.relax_volume((hood.list, hood.sums), support, dt);
+            pressure.relax_volume(hood, support, dt);
         });
         let dirichlet = free_surface
             .as_ref()

@@ -25,10 +25,11 @@ pub use crate::engine::state::{Breakdown, Scales, State, StepReport};
 
 use crate::engine::bodies::contact::Contact;
 use crate::engine::bodies::traction::FluidView;
-use crate::engine::bodies::{Bodies, Coupling, Disc, DiscMotion};
+use crate::engine::bodies::{Bodies, Coupling, Disc, DiscMotion, DiscSet};
 use crate::engine::boundary::inflow::Inflow;
 use crate::engine::boundary::{Ghosts, Wall, WallPressure};
 use crate::engine::drive::{bulk_velocity, Drive};
+use crate::engine::frame::StepVelocities;
 use crate::engine::free_surface::{
     Cohesion, DetachedBodies, DetachedMomentum, FreeSurface, FreeSurfaceStage, SurfaceTensionForm,
     Wetting,
@@ -37,7 +38,7 @@ use crate::engine::gravity::Gravity;
 use crate::engine::kernel::{QuinticSpline, H_OVER_DR};
 use crate::engine::kinematics::Kinematics;
 use crate::engine::math::{Sym2, Vec2};
-use crate::engine::neighbourhood::{default_skin, Hood, Neighbourhood};
+use crate::engine::neighbourhood::{default_skin, Geometry, Hood, Neighbourhood};
 use crate::engine::neighbours::Domain;
 use crate::engine::operators::DivergenceForm;
 use crate::engine::ordering::Reordering;
@@ -45,8 +46,8 @@ use crate::engine::predictor::{predict, PredictorTerms};
 use crate::engine::pressure::PressureStage;
 use crate::engine::projection::ProjectionStage;
 use crate::engine::resolution::Resolution;
-use crate::engine::rheology::hourglass::HourglassControl;
-use crate::engine::rheology::{ConformationStage, Fluid};
+use crate::engine::rheology::hourglass::{HourglassControl, HourglassFields};
+use crate::engine::rheology::{ConformationChoice, ConformationStage, Flow, Fluid};
 use crate::engine::scheme::{Method, Scheme};
 use crate::engine::shifting::{ShiftInputs, ShiftRule, Shifting};
 use crate::engine::stabilisation::PressureStabilisation;
@@ -147,7 +148,8 @@ pub struct Simulation {
 fn neighbourhood(
     walls: Vec<Wall>,
     scheme: &Scheme,
-    (spacing, resolution): (f64, Resolution),
+    spacing: f64,
+    resolution: Resolution,
 ) -> Neighbourhood {
     let mut ghosts = Ghosts::new(walls);
     ghosts.set_model(scheme.wall_model, spacing);
@@ -190,12 +192,16 @@ impl Simulation {
             Wetting::per_wall(angles.collect(), setup.spacing, scheme.wetting)
         });
         let bodies = Bodies::new(
-            (setup.discs, setup.contact, setup.gravity),
+            DiscSet {
+                discs: setup.discs,
+                contact: setup.contact,
+                gravity: setup.gravity,
+            },
             setup.body_force,
             scheme.wall_conformation,
             &mut walls,
         );
-        let hood = neighbourhood(walls, &scheme, (setup.spacing, setup.resolution));
+        let hood = neighbourhood(walls, &scheme, setup.spacing, setup.resolution);
         // Free surfaces take the positive divergence form of (20) with L = I; the weakly
         // compressible scheme sums the polymer stress in its own momentum form.
         let form = match scheme.method {
@@ -207,18 +213,18 @@ impl Simulation {
             reordering: Reordering::new(scheme.reorder, scheme.frame.moves_particles()),
             hood,
             kinematics: Kinematics::new(scheme.constitutive_gradient),
-            shifting: shifting(&scheme, (setup.free_surface, setup.contact, setup.spacing)),
+            shifting: shifting(&scheme, setup.free_surface, setup.contact, setup.spacing),
             free_surface: setup.free_surface.then(|| {
                 let sigma = if cohesive { 0.0 } else { fluid.surface_tension };
                 FreeSurfaceStage::new(scheme.surface_options(), sigma, setup.spacing, wetting)
             }),
             conformation: viscoelastic.then(|| {
                 ConformationStage::new(
-                    (
-                        scheme.conformation,
-                        scheme.conformation_integrator,
-                        scheme.conformation_remap,
-                    ),
+                    ConformationChoice {
+                        scheme: scheme.conformation,
+                        integrator: scheme.conformation_integrator,
+                        remap: scheme.conformation_remap,
+                    },
                     &fluid,
                     scheme.evss_alpha,
                     form,
@@ -500,7 +506,7 @@ impl Simulation {
             .time(Stage::Bodies, || bodies.advance(view, g, &coupling));
         let velocity = &mut self.state.velocity;
         self.state.body_force = self.timers.time(Stage::Bodies, || {
-            bodies.hold_return_flow((velocity, dv), fluid.density, g, dt)
+            bodies.hold_return_flow(velocity, dv, fluid.density, g, dt)
         });
     }
 
@@ -517,7 +523,11 @@ impl Simulation {
     fn neighbourhoods(&mut self) {
         let n = self.particles();
         let st = &mut self.stages;
-        let geometry = (&self.domain, &self.kernel, self.spacing);
+        let geometry = Geometry {
+            domain: &self.domain,
+            kernel: &self.kernel,
+            spacing: self.spacing,
+        };
         let moving = self.scheme.frame.moves_particles();
         self.timers.time(Stage::Neighbours, || {
             if st.hood.update(moving, geometry, n) {
@@ -534,7 +544,7 @@ impl Simulation {
             let hood = st.hood.parts();
             let Hood { list, sums, ghosts } = hood;
             if let Some(fs) = st.free_surface.as_mut() {
-                fs.detect((list, sums, &st.hood.points), kernel, buffer);
+                fs.detect(hood, &st.hood.points, kernel, buffer);
             }
             st.kinematics.update(hood, &s.velocity);
             if let Some(v) = st.shear_viscosity.as_mut() {
@@ -564,17 +574,24 @@ impl Simulation {
         let (st, s, fluid) = (&mut self.stages, &mut self.state, &self.fluid);
         if let Some(stage) = st.conformation.as_mut() {
             let dt = stage.span(s.previous_dt, dt);
-            let inputs = (st.kinematics.constitutive(), &s.shift_velocity[..]);
+            let flow = Flow {
+                grad_u: st.kinematics.constitutive(),
+                u_ps: &s.shift_velocity,
+            };
             self.timers.time(Stage::Constitutive, || {
-                stage.update(fluid, dt, st.hood.parts(), inputs, &mut s.conformation);
+                stage.update(fluid, dt, st.hood.parts(), flow, &mut s.conformation);
                 if let Some(control) = st.hourglass.as_mut() {
-                    let Hood { list, sums, .. } = st.hood.parts();
-                    let fields = (
-                        &s.velocity[..],
-                        &st.kinematics.grad_u[..],
-                        &s.conformation[..],
+                    let fields = HourglassFields {
+                        velocity: &s.velocity,
+                        grad_u: &st.kinematics.grad_u,
+                        conformation: &s.conformation,
+                    };
+                    control.add(
+                        st.hood.parts(),
+                        fluid,
+                        fields,
+                        stage.stress_divergence_mut(),
                     );
-                    control.add((list, sums), fluid, fields, stage.stress_divergence_mut());
                 }
             });
         }
@@ -595,9 +612,7 @@ impl Simulation {
             let grad_u = &st.kinematics.grad_u;
             let surface_force = match (st.cohesion.as_mut(), st.free_surface.as_mut()) {
                 (Some(c), _) => Some(c.accelerations(domain, &st.hood.points[..n])),
-                (None, Some(fs)) => {
-                    fs.shear_free_accelerations((hood.list, hood.sums), grad_u, (st.nu, factor))
-                }
+                (None, Some(fs)) => fs.shear_free_accelerations(hood, grad_u, (st.nu, factor)),
                 (None, None) => None,
             };
             let inputs = MomentumInputs {
@@ -703,7 +718,11 @@ impl Simulation {
             frame.advance_positions(
                 domain,
                 &mut s.position,
-                (&s.velocity, &st.velocity_star, &s.shift_velocity),
+                StepVelocities {
+                    old: &s.velocity,
+                    new: &st.velocity_star,
+                    shift: &s.shift_velocity,
+                },
                 dt,
             );
             std::mem::swap(&mut s.velocity, &mut st.velocity_star);
@@ -893,7 +912,9 @@ fn integrator(
 /// particles from shifting into walls within δr/2 ([`Shifting::keep_off_walls`]).
 fn shifting(
     scheme: &Scheme,
-    (free_surface, contact, spacing): (bool, Option<Contact>, f64),
+    free_surface: bool,
+    contact: Option<Contact>,
+    spacing: f64,
 ) -> Shifting {
     let rule = ShiftRule::new(
         scheme.frame,
