@@ -489,16 +489,22 @@ fn run_from_continues_another_runs_final_state() {
     assert!(String::from_utf8_lossy(&other.stderr).contains("domains differ"));
 }
 
-/// The committed key reference is what the code generates (`rheosph keys --markdown`): a key
-/// added, renamed or re-documented without regenerating the page fails here.
+/// The committed key references are what the code generates (`rheosph keys --markdown`, with
+/// `--page case` for `[scene]` and `[fluid]`): a key added, renamed or re-documented without
+/// regenerating its page fails here.
 #[test]
-fn the_key_reference_page_is_what_the_code_generates() {
-    let o = rheosph(&["keys", "--markdown"]);
-    assert!(o.status.success());
-    let generated = String::from_utf8(o.stdout).unwrap();
-    let committed = std::fs::read_to_string("docs/src/reference/scheme-keys.md").unwrap();
-    assert!(
-        generated == committed,
-        "docs/src/reference/scheme-keys.md is stale: rheosph keys --markdown > docs/src/reference/scheme-keys.md"
-    );
+fn the_key_reference_pages_are_what_the_code_generates() {
+    for (page, file) in [
+        ("scheme", "docs/src/reference/scheme-keys.md"),
+        ("case", "docs/src/reference/case-keys.md"),
+    ] {
+        let o = rheosph(&["keys", "--markdown", "--page", page]);
+        assert!(o.status.success());
+        let generated = String::from_utf8(o.stdout).unwrap();
+        let committed = std::fs::read_to_string(file).unwrap();
+        assert!(
+            generated == committed,
+            "{file} is stale: rheosph keys --markdown --page {page} > {file}"
+        );
+    }
 }

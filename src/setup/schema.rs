@@ -87,14 +87,25 @@ pub struct FluidSpec {
 }
 
 /// The keys of `[fluid]` every model reads.
-#[derive(Deserialize)]
+#[derive(Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
-struct FluidCommon {
+pub(crate) struct FluidCommon {
+    /// The constitutive model or generalised Newtonian law by name (the tables below); its
+    /// parameters are keys of `[fluid]` too.
     model: String,
+    /// ρ.
     density: f64,
+    /// The total zero-shear viscosity η0 = η_s + η_p; a generalised Newtonian law's cut, the
+    /// largest viscosity it takes, which the explicit step limit (28) uses.
     viscosity: f64,
+    /// η_s/η0 in [0, 1]: required by the viscoelastic models with a solvent (UCM: 0,
+    /// Newtonian: 1).
     beta: Option<f64>,
+    /// λ: required by the viscoelastic models.
     relaxation_time: Option<f64>,
+    /// σ: the capillary jump σκ in the free-surface pressure, or a cohesion force
+    /// (`scheme.surface_tension.form`); free-surface scenes only. Adds the capillary step
+    /// limit 0.25√(ρh³/2πσ). Unset: 0.
     surface_tension: Option<f64>,
 }
 

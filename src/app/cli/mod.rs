@@ -3,6 +3,7 @@
 
 pub mod args;
 
+use crate::app::keys::KeyPage;
 use crate::app::run::{self, Outcome, RunOptions};
 use crate::app::study::cli::StudyCommand;
 use crate::setup::case::{self, CaseError};
@@ -48,11 +49,15 @@ pub enum Command {
     /// Run many variants of a case: convergence, stability map, speed against accuracy.
     #[command(subcommand)]
     Study(StudyCommand),
-    /// Every key of `[scheme]` and `[run]` with its meaning, values and default, from the code.
+    /// Every key of a case file with its meaning, values and default, from the code.
     Keys {
-        /// As the Markdown page `docs/src/reference/scheme-keys.md` (else `key = default`).
+        /// As the Markdown page `docs/src/reference/scheme-keys.md` (`--page case`:
+        /// `case-keys.md`); else `key = default`.
         #[arg(long)]
         markdown: bool,
+        /// `scheme`: `[scheme]`, `[run]` and `[experimental]`; `case`: `[scene]` and `[fluid]`.
+        #[arg(long, value_enum, default_value = "scheme")]
+        page: KeyPage,
     },
 }
 
@@ -155,14 +160,16 @@ fn dispatch(cli: Cli) -> anyhow::Result<u8> {
             crate::app::compare::compare_centrelines(&args.runs, &args.labels, &args.out)?;
             Ok(EXIT_FINISHED)
         }
-        Command::Keys { markdown } => {
-            let text = if markdown {
-                crate::app::keys::markdown()
-            } else {
-                let rows = crate::app::keys::rows();
-                rows.iter()
+        Command::Keys { markdown, page } => {
+            use crate::app::keys;
+            let text = match (markdown, page) {
+                (true, KeyPage::Scheme) => keys::markdown(),
+                (true, KeyPage::Case) => keys::case_markdown(),
+                (false, _) => page
+                    .rows()
+                    .iter()
                     .map(|r| format!("{} = {}\n", r.key, r.default))
-                    .collect()
+                    .collect(),
             };
             print!("{text}");
             Ok(EXIT_FINISHED)

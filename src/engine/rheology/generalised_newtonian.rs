@@ -130,6 +130,8 @@ fn cut(eta0: f64, eta: f64) -> f64 {
 #[derive(Clone, Copy, Debug)]
 pub struct LawEntry {
     pub name: &'static str,
+    /// η(γ̇), for the key reference.
+    pub meaning: &'static str,
     pub parameters: &'static [Parameter],
     pub build: fn(&[f64]) -> ViscosityLaw,
 }
@@ -152,10 +154,12 @@ fn positive(v: f64) -> Result<f64, String> {
 
 const CONSISTENCY: Parameter = Parameter {
     key: "consistency",
+    meaning: "K > 0, the consistency",
     check: positive,
 };
 const POWER_INDEX: Parameter = Parameter {
     key: "power_index",
+    meaning: "n ∈ (0, 3], the power-law index",
     check: |n| {
         if n.is_finite() && n > 0.0 && n <= 3.0 {
             Ok(n)
@@ -166,18 +170,22 @@ const POWER_INDEX: Parameter = Parameter {
 };
 const TIME_CONSTANT: Parameter = Parameter {
     key: "time_constant",
+    meaning: "λ_c > 0, the time constant",
     check: positive,
 };
 const INFINITE_SHEAR: Parameter = Parameter {
     key: "infinite_shear_viscosity",
+    meaning: "η∞ ≥ 0, the infinite-shear viscosity",
     check: non_negative,
 };
 const YIELD_STRESS: Parameter = Parameter {
     key: "yield_stress",
+    meaning: "τ_y ≥ 0, the yield stress",
     check: non_negative,
 };
 const REGULARISATION: Parameter = Parameter {
     key: "regularisation",
+    meaning: "m > 0, Papanastasiou's regularisation exponent",
     check: positive,
 };
 
@@ -185,6 +193,7 @@ const REGULARISATION: Parameter = Parameter {
 pub const LAWS: &[LawEntry] = &[
     LawEntry {
         name: "power-law",
+        meaning: "min(η0, K γ̇^{n−1})",
         parameters: &[CONSISTENCY, POWER_INDEX],
         build: |v| ViscosityLaw::PowerLaw {
             consistency: v[0],
@@ -193,11 +202,13 @@ pub const LAWS: &[LawEntry] = &[
     },
     LawEntry {
         name: "carreau-yasuda",
+        meaning: "η∞ + (η0 − η∞)[1 + (λ_c γ̇)^a]^{(n−1)/a} (Yasuda et al. 1981)",
         parameters: &[
             TIME_CONSTANT,
             POWER_INDEX,
             Parameter {
                 key: "yasuda_exponent",
+                meaning: "a > 0, the Yasuda exponent",
                 check: positive,
             },
             INFINITE_SHEAR,
@@ -211,10 +222,12 @@ pub const LAWS: &[LawEntry] = &[
     },
     LawEntry {
         name: "cross",
+        meaning: "η∞ + (η0 − η∞)/[1 + (λ_c γ̇)^m] (Cross 1965)",
         parameters: &[
             TIME_CONSTANT,
             Parameter {
                 key: "cross_exponent",
+                meaning: "m > 0, the Cross exponent",
                 check: positive,
             },
             INFINITE_SHEAR,
@@ -227,6 +240,7 @@ pub const LAWS: &[LawEntry] = &[
     },
     LawEntry {
         name: "herschel-bulkley",
+        meaning: "min(η0, K γ̇^{n−1} + τ_y(1 − e^{−mγ̇})/γ̇) (Papanastasiou 1987)",
         parameters: &[YIELD_STRESS, CONSISTENCY, POWER_INDEX, REGULARISATION],
         build: |v| ViscosityLaw::HerschelBulkley {
             yield_stress: v[0],
@@ -237,6 +251,7 @@ pub const LAWS: &[LawEntry] = &[
     },
     LawEntry {
         name: "bingham",
+        meaning: "Herschel–Bulkley with n = 1 (K the plastic viscosity)",
         parameters: &[YIELD_STRESS, CONSISTENCY, REGULARISATION],
         build: |v| ViscosityLaw::HerschelBulkley {
             yield_stress: v[0],

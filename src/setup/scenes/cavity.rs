@@ -18,8 +18,9 @@ use crate::setup::error::{field_err, positive, FieldError};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
-/// `[scene]` of `kind = "cavity"`.
-#[derive(Clone, Debug, Serialize, Deserialize)]
+/// `[scene]` of `kind = "cavity"`: the lid-driven square cavity, its lid moving along x at
+/// y = L (`cases/lid-driven-cavity.toml`).
+#[derive(Clone, Debug, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct CavitySpec {
     /// The side L.

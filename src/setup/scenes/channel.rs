@@ -24,17 +24,20 @@ use crate::engine::step::{Scales, Setup};
 use crate::setup::error::{field_err, positive, FieldError};
 use serde::{Deserialize, Serialize};
 
-/// `[scene]` of `kind = "channel"`.
-#[derive(Clone, Debug, Serialize, Deserialize)]
+/// `[scene]` of `kind = "channel"`: plates at y = 0 and H, periodic along x; with sliding
+/// walls start-up Couette flow (`cases/couette.toml`), with a cylinder the confined cylinder or
+/// an array, with discs suspended rigid bodies.
+#[derive(Clone, Debug, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ChannelSpec {
     /// Periodic length along x.
     pub length: f64,
     /// Distance between the walls, H.
     pub height: f64,
-    /// Particles across the height, H/δr.
+    /// Particles across the height, H/δr (at least 8).
     pub resolution: usize,
-    /// Body force per unit mass g (along x).
+    /// Body force per unit mass g (along x): required unless the walls slide or
+    /// `mean_flow` sets it.
     pub body_force: Option<[f64; 2]>,
     /// With a cylinder: the nominal mean velocity ⟨u⟩ defining Re and Wi.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -72,9 +75,10 @@ pub struct ChannelSpec {
 }
 
 /// `[scene.cylinder]`.
-#[derive(Clone, Debug, Serialize, Deserialize)]
+#[derive(Clone, Debug, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct CylinderSpec {
+    /// R: mirrors are reflected across the circle, with volume ratios.
     pub radius: f64,
     /// Centre (default: the centre of the box).
     #[serde(default, skip_serializing_if = "Option::is_none")]

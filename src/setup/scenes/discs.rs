@@ -12,10 +12,14 @@ use crate::setup::error::{field_err, positive, FieldError};
 use serde::{Deserialize, Serialize};
 
 /// One `[[scene.discs]]` table.
-#[derive(Clone, Debug, Serialize, Deserialize)]
+#[derive(Clone, Debug, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DiscSpec {
+    /// R. Each disc keeps one kernel support from the walls and the other discs (the run
+    /// stops with a reason if one comes closer) unless `[scene.contact]` has lubrication or
+    /// the exponential repulsion, when only an overlap stops it. Lagrangian frame only.
     pub radius: f64,
+    /// [x, y] at the start.
     pub centre: [f64; 2],
     /// `fixed`, `prescribed`, `free-rotation` or `free` (default).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -150,7 +154,7 @@ pub fn check_apart(
 
 /// `[scene.contact]`: the discs' short-range repulsion and lubrication (see
 /// [`crate::engine::bodies::contact`]).
-#[derive(Clone, Debug, Serialize, Deserialize)]
+#[derive(Clone, Debug, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ContactSpec {
     /// F₀: force per unit length at contact (`quadratic`), or the seed's F_rep (`exponential`,
@@ -173,7 +177,7 @@ pub struct ContactSpec {
 }
 
 /// The repulsion's law (see [`Repulsion`]).
-#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum RepulsionKind {
     Quadratic,

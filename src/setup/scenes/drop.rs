@@ -22,15 +22,19 @@ use crate::engine::step::{Scales, Setup};
 use crate::setup::error::{field_err, in_range, positive, FieldError};
 use serde::{Deserialize, Serialize};
 
-/// `[scene]` of `kind = "drop"`: `resolution` is W/δr, `velocity` the impact speed U,
-/// `body_force` gravity.
-#[derive(Clone, Debug, Serialize, Deserialize)]
+/// `[scene]` of `kind = "drop"`: a drop with a free surface, falling onto a no-slip plate at
+/// y = 0, resting on it (a sessile drop) or free (`plate = false`); `resolution` is W/δr,
+/// `velocity` the impact speed U, `body_force` gravity.
+#[derive(Clone, Debug, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DropSpec {
+    /// The box x ∈ [−length/2, length/2] particles must stay in.
     pub length: f64,
+    /// The box's height y ∈ [0, height].
     pub height: f64,
     /// Particles across the drop's diameter, W/δr.
     pub resolution: usize,
+    /// Gravity, per unit mass (unset: none).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub body_force: Option<[f64; 2]>,
     /// The impact speed U.
@@ -45,7 +49,7 @@ pub struct DropSpec {
 }
 
 /// `[scene.drop]`.
-#[derive(Clone, Debug, Serialize, Deserialize)]
+#[derive(Clone, Debug, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DropTable {
     /// W.
@@ -67,7 +71,9 @@ pub struct DropTable {
 }
 
 /// The particle arrangement of a free drop (`scene.drop.lattice`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum DropLattice {
     #[default]

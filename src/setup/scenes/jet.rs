@@ -17,15 +17,19 @@ use crate::engine::step::{Scales, Setup};
 use crate::setup::error::{field_err, positive, FieldError};
 use serde::{Deserialize, Serialize};
 
-/// `[scene]` of `kind = "jet"`: `resolution` is D/δr, `velocity` the inflow speed U0,
+/// `[scene]` of `kind = "jet"`: a jet from an orifice onto a no-slip plate at y = 0, fed by
+/// an inflow buffer (jet buckling); `resolution` is D/δr, `velocity` the inflow speed U0,
 /// `body_force` gravity.
-#[derive(Clone, Debug, Serialize, Deserialize)]
+#[derive(Clone, Debug, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct JetSpec {
+    /// The box x ∈ [−length/2, length/2] particles must stay in.
     pub length: f64,
+    /// The box's height y ∈ [0, height], the plate at y = 0.
     pub height: f64,
     /// Particles across the orifice, D/δr.
     pub resolution: usize,
+    /// Gravity, per unit mass (unset: none).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub body_force: Option<[f64; 2]>,
     /// The inflow speed U0.
@@ -34,11 +38,12 @@ pub struct JetSpec {
 }
 
 /// `[scene.jet]`.
-#[derive(Clone, Debug, Serialize, Deserialize)]
+#[derive(Clone, Debug, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct JetTable {
     /// D.
     pub width: f64,
+    /// The orifice's height above the plate, where the inflow buffer feeds the jet.
     pub orifice_height: f64,
 }
 

@@ -25,8 +25,10 @@ use crate::engine::step::{Scales, Setup};
 use crate::setup::error::{field_err, in_range, positive, FieldError};
 use serde::{Deserialize, Serialize};
 
-/// `[scene]` of `kind = "pool"`: `resolution` is height/δr.
-#[derive(Clone, Debug, Serialize, Deserialize)]
+/// `[scene]` of `kind = "pool"`: a tank filled `depth` deep under gravity, its surface
+/// meeting the walls at the contact angle (`cases/meniscus.toml`), optionally with two plates
+/// dipped into it (capillary rise, `cases/capillary-rise.toml`); `resolution` is height/δr.
+#[derive(Clone, Debug, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PoolSpec {
     /// The tank's width (walls at x = ±length/2).
@@ -35,6 +37,7 @@ pub struct PoolSpec {
     pub height: f64,
     /// The liquid's depth at rest.
     pub depth: f64,
+    /// Particles across the box's height, height/δr.
     pub resolution: usize,
     /// Gravity, per unit mass.
     pub body_force: [f64; 2],
@@ -49,7 +52,7 @@ pub struct PoolSpec {
 }
 
 /// `[scene.plates]`.
-#[derive(Clone, Debug, Serialize, Deserialize)]
+#[derive(Clone, Debug, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PlatesTable {
     /// d, between the plates' inner faces.

@@ -15,12 +15,14 @@ use crate::engine::step::{Scales, Setup};
 use crate::setup::error::{field_err, positive, FieldError};
 use serde::{Deserialize, Serialize};
 
-/// `[scene]` of `kind = "taylor-green"`.
-#[derive(Clone, Debug, Serialize, Deserialize)]
+/// `[scene]` of `kind = "taylor-green"`: the decaying Taylor–Green vortex in a doubly
+/// periodic square box.
+#[derive(Clone, Debug, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct TaylorGreenSpec {
     /// The box side (length = height).
     pub length: f64,
+    /// Equal to `length`.
     pub height: f64,
     /// Particles across the box.
     pub resolution: usize,

@@ -35,6 +35,8 @@ impl Constitutive for FeneCr {
 
 pub const ENTRY: ModelEntry = ModelEntry {
     name: "fene-cr",
+    meaning:
+        "FENE-CR, Table I (Chilcott & Rallison): finite extension with a constant shear viscosity",
     parameters: &[super::fene_p::EXTENSIBILITY],
     solvent: super::Solvent::Ratio,
     build: |p| Model::FeneCr(FeneCr { l2: p[0] }),

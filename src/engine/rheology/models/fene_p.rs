@@ -41,6 +41,7 @@ impl Constitutive for FeneP {
 /// L² > 2, the trace at rest in 2D.
 pub const EXTENSIBILITY: Parameter = Parameter {
     key: "l2",
+    meaning: "L², the dumbbells' squared maximum extension (> 2; tr A < L²)",
     check: |l2| {
         if l2.is_finite() && l2 > 2.0 {
             Ok(l2)
@@ -54,6 +55,7 @@ pub const EXTENSIBILITY: Parameter = Parameter {
 
 pub const ENTRY: ModelEntry = ModelEntry {
     name: "fene-p",
+    meaning: "FENE-P, Table I: finitely extensible dumbbells, Peterlin's closure (tr A < L²)",
     parameters: &[EXTENSIBILITY],
     solvent: super::Solvent::Ratio,
     build: |p| Model::FeneP(FeneP { l2: p[0] }),

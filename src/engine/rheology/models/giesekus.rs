@@ -26,6 +26,7 @@ impl Constitutive for Giesekus {
 /// Mobility α ∈ [0, ½].
 pub const MOBILITY: Parameter = Parameter {
     key: "alpha",
+    meaning: "α ∈ [0, ½], the Giesekus mobility factor",
     check: |a| {
         if a.is_finite() && (0.0..=0.5).contains(&a) {
             Ok(a)
@@ -37,6 +38,7 @@ pub const MOBILITY: Parameter = Parameter {
 
 pub const ENTRY: ModelEntry = ModelEntry {
     name: "giesekus",
+    meaning: "Giesekus, Table I: an anisotropic drag on the dumbbells",
     parameters: &[MOBILITY],
     solvent: super::Solvent::Ratio,
     build: |p| Model::Giesekus(Giesekus { alpha: p[0] }),

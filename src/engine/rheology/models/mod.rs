@@ -90,6 +90,8 @@ pub enum Solvent {
 pub struct Parameter {
     /// The key in the case file's `[fluid]` table.
     pub key: &'static str,
+    /// What it is and its range, for the key reference.
+    pub meaning: &'static str,
     /// The value, or why it is out of range.
     pub check: fn(f64) -> Result<f64, String>,
 }
@@ -98,6 +100,8 @@ pub struct Parameter {
 #[derive(Clone, Copy, Debug)]
 pub struct ModelEntry {
     pub name: &'static str,
+    /// What the model is, for the key reference.
+    pub meaning: &'static str,
     pub parameters: &'static [Parameter],
     pub solvent: Solvent,
     /// The model from its parameters' values, in the order of `parameters`.
@@ -107,6 +111,7 @@ pub struct ModelEntry {
 /// The Newtonian fluid.
 const NEWTONIAN: ModelEntry = ModelEntry {
     name: "newtonian",
+    meaning: "constant viscosity η0",
     parameters: &[],
     solvent: Solvent::All,
     build: |_| Model::Newtonian,

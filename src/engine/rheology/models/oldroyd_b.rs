@@ -22,6 +22,7 @@ impl Constitutive for OldroydB {
 /// `oldroyd-b`: needs β ∈ [0, 1].
 pub const ENTRY: ModelEntry = ModelEntry {
     name: "oldroyd-b",
+    meaning: "Oldroyd-B, Table I: a Hookean dumbbell in a Newtonian solvent (`fluid.beta` η_s/η0)",
     parameters: &[],
     solvent: super::Solvent::Ratio,
     build: |_| Model::OldroydB,
@@ -30,6 +31,7 @@ pub const ENTRY: ModelEntry = ModelEntry {
 /// `ucm`: Oldroyd-B without solvent (β = 0).
 pub const UCM: ModelEntry = ModelEntry {
     name: "ucm",
+    meaning: "the upper-convected Maxwell model: Oldroyd-B without solvent (β = 0)",
     parameters: &[],
     solvent: super::Solvent::None,
     build: |_| Model::Ucm,

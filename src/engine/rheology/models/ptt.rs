@@ -55,6 +55,7 @@ impl Constitutive for ExponentialPtt {
 /// ε ≥ 0.
 pub const EPSILON: Parameter = Parameter {
     key: "epsilon",
+    meaning: "ε ≥ 0, the extensibility parameter of the Phan-Thien–Tanner models",
     check: |e| {
         if e.is_finite() && e >= 0.0 {
             Ok(e)
@@ -66,6 +67,7 @@ pub const EPSILON: Parameter = Parameter {
 
 pub const LINEAR: ModelEntry = ModelEntry {
     name: "lptt",
+    meaning: "linear Phan-Thien–Tanner, Table I",
     parameters: &[EPSILON],
     solvent: super::Solvent::Ratio,
     build: |p| Model::LinearPtt(LinearPtt { epsilon: p[0] }),
@@ -73,6 +75,7 @@ pub const LINEAR: ModelEntry = ModelEntry {
 
 pub const EXPONENTIAL: ModelEntry = ModelEntry {
     name: "eptt",
+    meaning: "exponential Phan-Thien–Tanner, Table I",
     parameters: &[EPSILON],
     solvent: super::Solvent::Ratio,
     build: |p| Model::ExponentialPtt(ExponentialPtt { epsilon: p[0] }),
