@@ -286,11 +286,11 @@ impl Neighbourhood {
     /// The walls' continuations from the new lists and kernel sums; the lists are then valid.
     fn prepare_continuation(&mut self, n: usize, support: f64) {
         let pairs = PairKernel {
+            list: &self.list,
             value: &self.sums.value,
             factor: &self.sums.factor,
         };
-        self.ghosts
-            .prepare_continuation((&self.list, pairs), n, support);
+        self.ghosts.prepare_continuation(pairs, n, support);
         self.valid = true;
     }
 

@@ -52,10 +52,11 @@ pub enum VelocityExtension {
     Quadratic,
 }
 
-/// The kernel of each listed pair k (the operators' kernel sums hold both): W(r_k) and
-/// F(r_k), ∇W_k = F(r_k) r_k.
+/// The listed pairs and the kernel of each pair k (the operators' kernel sums hold both):
+/// W(r_k) and F(r_k), ∇W_k = F(r_k) r_k.
 #[derive(Clone, Copy)]
 pub struct PairKernel<'a> {
+    pub list: &'a NeighbourList,
     pub value: &'a [f64],
     pub factor: &'a [f64],
 }
@@ -102,10 +103,11 @@ impl Continuation {
     /// points the fluid's).
     pub fn build(
         &mut self,
-        (list, sums): (&NeighbourList, PairKernel),
+        pairs: PairKernel,
         n_fluid: usize,
         ghosts: &GhostView,
     ) {
+        let list = pairs.list;
         let count = ghosts.parent.len();
         self.stencils.resize_with(count, Stencil::default);
         self.stencils
@@ -127,10 +129,10 @@ impl Continuation {
                 stencil.points.extend(fluid.clone().map(|p| list.index[p]));
                 let arm = ghosts.arm[g];
                 if velocity {
-                    velocity_weights((list, sums), fluid.clone(), arm, &mut stencil.velocity);
+                    velocity_weights(pairs, fluid.clone(), arm, &mut stencil.velocity);
                 }
                 if tensor {
-                    tensor_weights((list, sums), fluid, arm, &mut stencil.tensor);
+                    tensor_weights(pairs, fluid, arm, &mut stencil.tensor);
                 }
             });
     }
@@ -182,11 +184,12 @@ impl Continuation {
 /// c_j of the velocity continuation at `arm` (module docs) into `c` (empty on entry), over
 /// the parent and the `fluid` pair indices of its row; left empty where the fit is singular.
 fn velocity_weights(
-    (list, sums): (&NeighbourList, PairKernel),
+    pairs: PairKernel,
     fluid: impl Iterator<Item = usize> + Clone,
     arm: Vec2,
     c: &mut Vec<f64>,
 ) {
+    let list = pairs.list;
     // Positions about the wall point, scaled by the support's reach for conditioning.
     let scale = fluid
         .clone()
@@ -196,9 +199,9 @@ fn velocity_weights(
         let r = r / scale;
         SVector::<f64, 5>::from([r.x, r.y, r.x * r.x, r.x * r.y, r.y * r.y])
     };
-    let nearest = fluid.clone().map(|p| sums.value[p]).fold(0.0, f64::max);
+    let nearest = fluid.clone().map(|p| pairs.value[p]).fold(0.0, f64::max);
     let rows = std::iter::once((-0.5 * arm, nearest))
-        .chain(fluid.map(|p| (-list.rij[p] - 0.5 * arm, sums.value[p])));
+        .chain(fluid.map(|p| (-list.rij[p] - 0.5 * arm, pairs.value[p])));
     let mut m = SMatrix::<f64, 5, 5>::zeros();
     for (at, w) in rows.clone() {
         let b = basis(at);
@@ -217,21 +220,22 @@ fn velocity_weights(
 /// a_j of the tensor continuation at `arm` (module docs) into `a` (empty on entry), over the
 /// parent (a_k = 0) and the `fluid` pair indices of its row; left empty where B is singular.
 fn tensor_weights(
-    (list, sums): (&NeighbourList, PairKernel),
+    pairs: PairKernel,
     fluid: impl Iterator<Item = usize> + Clone,
     arm: Vec2,
     a: &mut Vec<f64>,
 ) {
+    let list = pairs.list;
     let mut b = Mat2::zeros();
     for p in fluid.clone() {
-        b -= sums.factor[p] * list.rij[p] * list.rij[p].transpose();
+        b -= pairs.factor[p] * list.rij[p] * list.rij[p].transpose();
     }
     let Some(inverse) = b.try_inverse() else {
         return;
     };
     let w = inverse.transpose() * arm;
     a.push(0.0);
-    a.extend(fluid.map(|p| w.dot(&(sums.factor[p] * list.rij[p]))));
+    a.extend(fluid.map(|p| w.dot(&(pairs.factor[p] * list.rij[p]))));
     if !a.iter().all(|v| v.is_finite()) {
         a.clear();
     }
@@ -271,10 +275,11 @@ mod tests {
             .unzip();
         let sums = (value, factor);
         let pairs = PairKernel {
+            list: &list,
             value: &sums.0,
             factor: &sums.1,
         };
-        ghosts.prepare_continuation((&list, pairs), n, kernel.support());
+        ghosts.prepare_continuation(pairs, n, kernel.support());
         (ghosts, points, list, sums)
     }
 
@@ -315,11 +320,12 @@ mod tests {
         let n = points.len() - ghosts.len();
         ghosts.set_velocity_extension(VelocityExtension::Mirror);
         let pairs = PairKernel {
+            list: &list,
             value: &sums.0,
             factor: &sums.1,
         };
         let support = QuinticSpline::for_spacing(0.1).support();
-        ghosts.prepare_continuation((&list, pairs), n, support);
+        ghosts.prepare_continuation(pairs, n, support);
         let fluid: Vec<Vec2> = points[..n]
             .iter()
             .map(|r| Vec2::new(r.y * r.y, 0.0))

@@ -23,7 +23,7 @@ pub use shape::{Circle, Corner, Plane, Plate, Shape};
 pub use wall_pressure::WallPressure;
 
 use crate::engine::math::{Sym2, Vec2};
-use crate::engine::neighbours::{Domain, NeighbourList};
+use crate::engine::neighbours::Domain;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
@@ -483,7 +483,7 @@ impl Ghosts {
     /// continues a tensor and the velocity is mirrored, nothing.
     pub fn prepare_continuation(
         &mut self,
-        (list, sums): (&NeighbourList, continuation::PairKernel),
+        pairs: continuation::PairKernel,
         n_fluid: usize,
         support: f64,
     ) {
@@ -500,7 +500,7 @@ impl Ghosts {
             velocity: &|g| velocity && sign[wall[g] as usize] < 0.0 && lone(g),
             tensor: &|g| tensor && walls[wall[g] as usize].condition.continues_tensor(),
         };
-        continuation.build((list, sums), n_fluid, &ghosts);
+        continuation.build(pairs, n_fluid, &ghosts);
         self.continuation = continuation;
         self.shared_parent = shared;
     }

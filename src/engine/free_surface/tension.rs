@@ -195,13 +195,16 @@ impl SurfaceTension {
             };
             (lines, w.curvature)
         });
-        let lag = Lag(&self.lag);
+        let lag = Lag {
+            list,
+            lag: &self.lag,
+        };
         self.curvature
             .par_iter_mut()
             .enumerate()
             .for_each(|(i, kappa)| {
                 *kappa = if surface.on_surface[i] {
-                    fitted_curvature(i, (list, lag), surface, kernel, lines)
+                    fitted_curvature(i, lag, surface, kernel, lines)
                         .map_or(0.0, |k| at_surface(k, offset))
                 } else {
                     0.0
@@ -222,11 +225,15 @@ impl SurfaceTension {
         };
         let mut turned = std::mem::take(&mut self.turned);
         turned.resize(list.rows(), None);
-        let (kernel, lag) = (&self.kernel, Lag(&self.lag));
+        let kernel = &self.kernel;
+        let lag = Lag {
+            list,
+            lag: &self.lag,
+        };
         let lines = Some((wetting.lines.as_slice(), wetting.curvature));
         turned.par_iter_mut().enumerate().for_each(|(i, out)| {
             *out = wetting.lines[i].map(|line| {
-                fitted_curvature(i, (list, lag), surface, kernel, lines)
+                fitted_curvature(i, lag, surface, kernel, lines)
                     .map_or(line, |k| line.for_curvature(k))
             });
         });
@@ -257,16 +264,16 @@ fn at_surface(kappa: f64, offset: f64) -> f64 {
 /// is blended). None with fewer than three points or a degenerate fit.
 fn fitted_curvature(
     i: usize,
-    (list, lag): (&NeighbourList, Lag),
+    lag: Lag,
     surface: &FreeSurface,
     kernel: &QuinticSpline,
     lines: Option<(&[Option<ContactLine>], ContactCurvature)>,
 ) -> Option<f64> {
     let ni = surface.normal[i];
-    let contact = lines.and_then(|(l, _)| contact_of(i, (list, lag), surface, l));
+    let contact = lines.and_then(|(l, _)| contact_of(i, lag, surface, l));
     if let Some((_, line, c)) = contact.filter(|&(_, _, c)| c == i) {
         if lines.is_some_and(|(_, rule)| rule == ContactCurvature::Turn) {
-            let ahead = facing_surface(c, (list, lag), surface, ni)
+            let ahead = facing_surface(c, lag, surface, ni)
                 .map(|(j, r)| (r, surface.weight(j) * kernel.value(r.norm())));
             if let Some(kappa) = line.turned_curvature(ahead) {
                 return Some(kappa);
@@ -276,14 +283,14 @@ fn fitted_curvature(
     let mut fit = ParabolaFit::new(ni, kernel);
     fit.add(Vec2::zeros());
     let real_side = |r: Vec2| contact.is_none_or(|(c, line, _)| line.on_real_side(r - c));
-    for (j, r) in facing_surface(i, (list, lag), surface, ni) {
+    for (j, r) in facing_surface(i, lag, surface, ni) {
         if real_side(r) {
             fit.add_weighted(r, surface.weight(j));
         }
     }
     if let Some((rc, line, c)) = contact {
         let nc = surface.normal[c];
-        for (_, q) in facing_surface(c, (list, lag), surface, nc) {
+        for (_, q) in facing_surface(c, lag, surface, nc) {
             if let Some(image) = line.continuation(q) {
                 fit.add(rc + image);
             }
@@ -292,17 +299,21 @@ fn fitted_curvature(
     fit.curvature()
 }
 
-/// The lag of κ's time level behind r* per particle (empty: κ at r*).
+/// The pairs of the list at the time level of κ: the lag of that level behind r* per
+/// particle (empty: κ at r*).
 #[derive(Clone, Copy)]
-struct Lag<'a>(&'a [Vec2]);
+struct Lag<'a> {
+    list: &'a NeighbourList,
+    lag: &'a [Vec2],
+}
 
 impl Lag<'_> {
     /// r_j − r_i at the time level of κ, from r_i* − r_j* = `rij`.
     fn offset(self, rij: Vec2, i: usize, j: usize) -> Vec2 {
-        if self.0.is_empty() {
+        if self.lag.is_empty() {
             -rij
         } else {
-            -rij - (self.0[j] - self.0[i])
+            -rij - (self.lag[j] - self.lag[i])
         }
     }
 }
@@ -310,10 +321,11 @@ impl Lag<'_> {
 /// The FS neighbours j of i facing along `n` (n_j·n > 1/2), with r_j − r_i.
 fn facing_surface<'a>(
     i: usize,
-    (list, lag): (&'a NeighbourList, Lag<'a>),
+    lag: Lag<'a>,
     surface: &'a FreeSurface,
     n: Vec2,
 ) -> impl Iterator<Item = (usize, Vec2)> + 'a {
+    let list = lag.list;
     let rows = list.rows();
     list.range(i).filter_map(move |k| {
         let j = list.index[k] as usize;
@@ -326,12 +338,12 @@ fn facing_surface<'a>(
 /// neighbours that have a contact line; its position relative to i, its line and index.
 fn contact_of(
     i: usize,
-    (list, lag): (&NeighbourList, Lag),
+    lag: Lag,
     surface: &FreeSurface,
     lines: &[Option<ContactLine>],
 ) -> Option<(Vec2, ContactLine, usize)> {
     let own = lines[i].map(|l| (Vec2::zeros(), l, i));
-    facing_surface(i, (list, lag), surface, surface.normal[i])
+    facing_surface(i, lag, surface, surface.normal[i])
         .filter_map(|(j, r)| lines[j].map(|l| (r, l, j)))
         .chain(own)
         .min_by(|a, b| a.1.distance.total_cmp(&b.1.distance))
