@@ -5,7 +5,7 @@
 use crate::app::plot::FigureFormat;
 use crate::app::plot::{self, Chart, Curve, CurveStyle, PALETTE};
 use crate::app::run::errors;
-use crate::app::run::probes::cylinder::CentrelineRow;
+use crate::app::run::probes::centreline::CentrelineRow;
 use crate::app::run::probes::drop::DropRow;
 use crate::app::table;
 use anyhow::{Context, Result};

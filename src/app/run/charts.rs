@@ -2,7 +2,7 @@
 //! profiles across the channel, each against the analytic reference where there is one.
 
 use super::errors::ExactStresses;
-use super::probes::cylinder::{CentrelineColumn, CentrelineRow};
+use super::probes::centreline::{CentrelineColumn, CentrelineRow};
 use crate::analysis::reference::Reference;
 use crate::app::io::SeriesRow;
 use crate::app::plot::FigureFormat;

@@ -6,7 +6,7 @@
 use super::{run_all, Base, Variant};
 use crate::app::plot::FigureFormat;
 use crate::app::plot::{self, Chart, Curve, CurveStyle, PALETTE};
-use crate::app::run::probes::cylinder::{CentrelineColumn, CentrelineRow};
+use crate::app::run::probes::centreline::{CentrelineColumn, CentrelineRow};
 use crate::app::table::{self, fmt};
 use anyhow::Result;
 use plotters::style::RGBColor;

@@ -2,6 +2,7 @@
 //! F_x/(η0⟨u⟩) and parts in every series row, the steady state of ⟨u⟩ and the averages after
 //! it (`[run.steady]`, King & Lind §IV B), `centreline.csv` and the cylinder charts.
 
+use super::centreline::CentrelineRow;
 use super::steady::{Averages, SteadySummary};
 use super::Probe;
 use crate::analysis::centreline::Centreline;
@@ -9,7 +10,7 @@ use crate::analysis::forces;
 use crate::app::io::{self, SeriesRow};
 use crate::app::plot::FigureFormat;
 use crate::app::run::charts;
-use crate::app::table::{self, fmt};
+use crate::app::table;
 use crate::engine::boundary::Circle;
 use crate::engine::step::Simulation;
 use crate::engine::timing::Stage;
@@ -176,23 +177,6 @@ impl Probe for CylinderProbe {
         Ok(Some(serde_json::to_value(summary)?))
     }
 }
-
-/// One row of `centreline.csv`: s (0 at the cylinder's downstream edge), u/⟨u⟩,
-/// τ_xx/(η_s⟨u⟩/R) and det A, time-averaged over the steady window.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct CentrelineRow {
-    #[serde(serialize_with = "fmt::sci6")]
-    pub s: f64,
-    #[serde(serialize_with = "fmt::sci8")]
-    pub u_over_umean: f64,
-    #[serde(serialize_with = "fmt::sci8")]
-    pub tau_xx_scaled: f64,
-    #[serde(serialize_with = "fmt::sci8")]
-    pub det_a: f64,
-}
-
-/// One column of the centre-line rows, for charts that draw each against s.
-pub type CentrelineColumn = fn(&CentrelineRow) -> f64;
 
 /// The rows of `centreline.csv`.
 fn centreline_rows(
