@@ -71,7 +71,8 @@ pub struct DropSummary {
     pub contact_angle: Option<f64>,
 }
 
-/// One row of `drop.csv`.
+/// One row of `drop.csv`. The free-drop columns (`mode2` on) came later: a file written
+/// before them reads them as NaN, as `compare-drops` and a resumed run need.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct DropRow {
     #[serde(serialize_with = "fmt::sci8")]
@@ -89,11 +90,11 @@ pub struct DropRow {
     pub surface_particles: usize,
     #[serde(serialize_with = "fmt::sci6")]
     pub max_trace_a: f64,
-    #[serde(serialize_with = "fmt::sci8")]
+    #[serde(default = "table::nan", serialize_with = "fmt::sci8")]
     pub mode2: f64,
-    #[serde(serialize_with = "fmt::sci8")]
+    #[serde(default = "table::nan", serialize_with = "fmt::sci8")]
     pub interior_pressure: f64,
-    #[serde(serialize_with = "fmt::sci6")]
+    #[serde(default = "table::nan", serialize_with = "fmt::sci6")]
     pub max_speed: f64,
     /// Σ m_i/ρ_i over N δV, the volume at ρ0 (1 for the projection, whose particles keep
     /// ρ0; the weakly compressible scheme's compression). NaN in a file written before the
