@@ -110,14 +110,3 @@ impl Profile {
         }
     }
 }
-
-/// The rows of a `centreline.csv` text (header skipped) as [s, u/⟨u⟩, τ_xx scaled, det A].
-pub fn parse_csv(text: &str) -> Vec<[f64; 4]> {
-    text.lines()
-        .skip(1)
-        .filter_map(|l| {
-            let v: Vec<f64> = l.split(',').filter_map(|x| x.parse().ok()).collect();
-            (v.len() == 4).then(|| [v[0], v[1], v[2], v[3]])
-        })
-        .collect()
-}

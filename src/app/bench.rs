@@ -15,36 +15,54 @@ use crate::engine::pressure::PressureSystem;
 use crate::engine::step::Simulation;
 use crate::setup::case::{self, Case};
 
+use crate::app::table::{self, fmt};
 use anyhow::{Context, Result};
+use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
 
-/// One row of the benchmark table (times in milliseconds per call).
-#[derive(Clone, Debug, Default, serde::Serialize)]
+/// One row of the benchmark table and of `bench.csv` (times in milliseconds per call).
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct BenchRow {
     pub particles: usize,
     pub resolution: usize,
+    #[serde(serialize_with = "fmt::fixed4")]
     pub neighbours_ms: f64,
     /// The search for Verlet candidates within support + skin (`scheme.neighbours.skin`).
+    #[serde(serialize_with = "fmt::fixed4")]
     pub skin_search_ms: f64,
     /// A step that reuses the candidates: mirrors moved, candidates filtered.
+    #[serde(serialize_with = "fmt::fixed4")]
     pub skin_reuse_ms: f64,
+    #[serde(serialize_with = "fmt::fixed4")]
     pub kernel_sums_ms: f64,
+    #[serde(serialize_with = "fmt::fixed4")]
     pub operators_ms: f64,
+    #[serde(serialize_with = "fmt::fixed4")]
     pub ppe_assembly_ms: f64,
+    #[serde(serialize_with = "fmt::fixed4")]
     pub ppe_bicgstab_cold_ms: f64,
+    #[serde(serialize_with = "fmt::fixed2")]
     pub ppe_bicgstab_cold_iterations: f64,
+    #[serde(serialize_with = "fmt::fixed4")]
     pub ppe_bicgstab_warm_ms: f64,
+    #[serde(serialize_with = "fmt::fixed2")]
     pub ppe_bicgstab_warm_iterations: f64,
     /// Factorisation + solve every step (NaN when skipped above `lu_max`).
+    #[serde(serialize_with = "fmt::fixed4")]
     pub ppe_lu_ms: f64,
     /// Solve with the factorisation cached, as an Eulerian run does (fixed particles).
+    #[serde(serialize_with = "fmt::fixed4")]
     pub ppe_lu_cached_ms: f64,
+    #[serde(serialize_with = "fmt::fixed4")]
     pub step_ms: f64,
+    #[serde(serialize_with = "fmt::fixed1")]
     pub particle_steps_per_second: f64,
+    #[serde(serialize_with = "fmt::fixed2")]
     pub ppe_iterations_per_step: f64,
     /// Heap bytes of the simulation (state and every per-step buffer) per particle.
+    #[serde(serialize_with = "fmt::fixed0")]
     pub bytes_per_particle: f64,
 }
 
@@ -317,31 +335,7 @@ pub fn run(
         table.push_str(&line);
         rows.push(r);
     }
-    let mut csv = String::from("particles,resolution,neighbours_ms,skin_search_ms,skin_reuse_ms,kernel_sums_ms,operators_ms,ppe_assembly_ms,ppe_bicgstab_cold_ms,ppe_bicgstab_cold_iterations,ppe_bicgstab_warm_ms,ppe_bicgstab_warm_iterations,ppe_lu_ms,ppe_lu_cached_ms,step_ms,particle_steps_per_second,ppe_iterations_per_step,bytes_per_particle\n");
-    for r in &rows {
-        let _ = writeln!(
-            csv,
-            "{},{},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.2},{:.4},{:.2},{:.4},{:.4},{:.4},{:.1},{:.2},{:.0}",
-            r.particles,
-            r.resolution,
-            r.neighbours_ms,
-            r.skin_search_ms,
-            r.skin_reuse_ms,
-            r.kernel_sums_ms,
-            r.operators_ms,
-            r.ppe_assembly_ms,
-            r.ppe_bicgstab_cold_ms,
-            r.ppe_bicgstab_cold_iterations,
-            r.ppe_bicgstab_warm_ms,
-            r.ppe_bicgstab_warm_iterations,
-            r.ppe_lu_ms,
-            r.ppe_lu_cached_ms,
-            r.step_ms,
-            r.particle_steps_per_second,
-            r.ppe_iterations_per_step,
-            r.bytes_per_particle
-        );
-    }
+    let csv = table::write_rows(&rows);
     crate::app::io::write_atomic(&out.join("bench.csv"), csv.as_bytes())?;
     crate::app::io::write_atomic(&out.join("bench.txt"), table.as_bytes())?;
     Ok(rows)

@@ -12,6 +12,7 @@
 //! SpMV-bound equivalents (solve time over the bound).
 
 use crate::app::bench::{case_at, developed, time_ms};
+use crate::app::table::{self, fmt};
 use crate::engine::boundary::Ghosts;
 use crate::engine::math::Vec2;
 use crate::engine::neighbours::{NeighbourList, NeighbourSearch};
@@ -22,30 +23,43 @@ use anyhow::{Context, Result};
 use rayon::prelude::*;
 use rheosph_solver::amg::Amg;
 use rheosph_solver::{NullSpace, Preconditioner, Solver, SolverOptions, Strategy};
+use serde::{Deserialize, Serialize};
 use sprs::CsMat;
-use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
 
-/// One size of the solver table (times in milliseconds).
-#[derive(Clone, Debug, Default, serde::Serialize)]
+/// One size of the solver table and of `solvers.csv` (times in milliseconds).
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct SolverRow {
     pub unknowns: usize,
+    #[serde(serialize_with = "fmt::fixed2")]
     pub nonzeros_per_row: f64,
+    #[serde(serialize_with = "fmt::fixed4")]
     pub spmv_ms: f64,
+    #[serde(serialize_with = "fmt::fixed4")]
     pub spmv_bound_ms: f64,
     pub jacobi_iterations: usize,
+    #[serde(serialize_with = "fmt::fixed3")]
     pub jacobi_ms: f64,
+    #[serde(serialize_with = "fmt::fixed3")]
     pub amg_setup_ms: f64,
     /// One V-cycle (the preconditioner's application).
+    #[serde(serialize_with = "fmt::fixed3")]
     pub vcycle_ms: f64,
     pub amg_iterations: usize,
+    #[serde(serialize_with = "fmt::fixed3")]
     pub amg_solve_ms: f64,
     pub amg_levels: usize,
+    #[serde(serialize_with = "fmt::fixed3")]
     pub amg_complexity: f64,
     /// Solve time per unknown, µs (AMG: set-up included).
+    #[serde(serialize_with = "fmt::fixed4")]
     pub jacobi_us_per_unknown: f64,
+    #[serde(serialize_with = "fmt::fixed4")]
     pub amg_us_per_unknown: f64,
+    /// The machine's triad bandwidth the bounds are from, GB/s (the same on every row).
+    #[serde(serialize_with = "fmt::fixed3")]
+    pub triad_bandwidth_gb_s: f64,
 }
 
 /// Triad bandwidth a[i] = b[i] + s c[i] over arrays far beyond the caches, bytes/s.
@@ -165,6 +179,7 @@ pub fn solver_row(target: usize, bandwidth: f64) -> Result<SolverRow> {
         amg_complexity: amg.complexity(),
         jacobi_us_per_unknown: per_unknown(jacobi_ms),
         amg_us_per_unknown: per_unknown(amg_total_ms),
+        triad_bandwidth_gb_s: bandwidth * 1e-9,
     })
 }
 
@@ -199,28 +214,7 @@ pub fn run(sizes: &[usize], out: &Path, quiet: bool) -> Result<Vec<SolverRow>> {
         table.push_str(&line);
         rows.push(r);
     }
-    let mut csv = String::from("unknowns,nonzeros_per_row,spmv_ms,spmv_bound_ms,jacobi_iterations,jacobi_ms,amg_setup_ms,vcycle_ms,amg_iterations,amg_solve_ms,amg_levels,amg_complexity,jacobi_us_per_unknown,amg_us_per_unknown,triad_bandwidth_gb_s\n");
-    for r in &rows {
-        let _ = writeln!(
-            csv,
-            "{},{:.2},{:.4},{:.4},{},{:.3},{:.3},{:.3},{},{:.3},{},{:.3},{:.4},{:.4},{:.3}",
-            r.unknowns,
-            r.nonzeros_per_row,
-            r.spmv_ms,
-            r.spmv_bound_ms,
-            r.jacobi_iterations,
-            r.jacobi_ms,
-            r.amg_setup_ms,
-            r.vcycle_ms,
-            r.amg_iterations,
-            r.amg_solve_ms,
-            r.amg_levels,
-            r.amg_complexity,
-            r.jacobi_us_per_unknown,
-            r.amg_us_per_unknown,
-            bandwidth * 1e-9
-        );
-    }
+    let csv = table::write_rows(&rows);
     crate::app::io::write_atomic(&out.join("solvers.csv"), csv.as_bytes())?;
     crate::app::io::write_atomic(&out.join("solvers.txt"), table.as_bytes())?;
     Ok(rows)

@@ -4,6 +4,10 @@
 
 use crate::app::plot::FigureFormat;
 use crate::app::plot::{self, Chart, Curve, CurveStyle, PALETTE};
+use crate::app::run::errors;
+use crate::app::run::probes::centreline::CentrelineRow;
+use crate::app::run::probes::drop::DropRow;
+use crate::app::table;
 use anyhow::{Context, Result};
 use std::path::{Path, PathBuf};
 
@@ -17,12 +21,13 @@ pub enum Field {
 }
 
 impl Field {
-    fn columns(self) -> (&'static str, &'static str) {
+    /// The numeric value of a particle and the analytic one at its height.
+    fn of(self, r: &errors::ProfileRow) -> (f64, Option<f64>) {
         match self {
-            Field::U => ("u", "u_exact"),
-            Field::TauXy => ("tau_xy", "tau_xy_exact"),
-            Field::TauXx => ("tau_xx", "tau_xx_exact"),
-            Field::TauYy => ("tau_yy", "tau_yy_exact"),
+            Field::U => (r.u, r.u_exact),
+            Field::TauXy => (r.tau_xy, r.tau_xy_exact),
+            Field::TauXx => (r.tau_xx, r.tau_xx_exact),
+            Field::TauYy => (r.tau_yy, r.tau_yy_exact),
         }
     }
 }
@@ -50,28 +55,14 @@ fn check_labels(labels: &[String], runs: usize) -> Result<()> {
 
 /// One run's label and rows.
 fn read_run(dir: &Path, field: Field) -> Result<(String, Vec<ProfileRow>)> {
-    let text = std::fs::read_to_string(dir.join("profile.csv"))
-        .with_context(|| format!("reading {}", dir.join("profile.csv").display()))?;
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines
-        .next()
-        .context("empty profile.csv")?
-        .split(',')
+    let profile: Vec<errors::ProfileRow> = table::read_rows(&dir.join("profile.csv"))?;
+    let rows = profile
+        .iter()
+        .map(|r| {
+            let (value, exact) = field.of(r);
+            (r.y, value, exact)
+        })
         .collect();
-    let col = |name: &str| {
-        header
-            .iter()
-            .position(|h| *h == name)
-            .with_context(|| format!("no column {name}"))
-    };
-    let (num, ex) = field.columns();
-    let (iy, inum, iex) = (col("y")?, col(num)?, col(ex)?);
-    let mut rows = Vec::new();
-    for line in lines {
-        let f: Vec<&str> = line.split(',').collect();
-        let exact = f[iex].parse::<f64>().ok();
-        rows.push((f[iy].parse::<f64>()?, f[inum].parse::<f64>()?, exact));
-    }
     let summary = read_summary(dir);
     let fluid = &summary["case"]["fluid"];
     let mut label = fluid["model"].as_str().unwrap_or("run").to_string();
@@ -130,28 +121,8 @@ pub fn compare_profiles(
 
 /// (t*, W*, H*) rows of a run's `drop.csv`.
 fn read_drop(dir: &Path) -> Result<Vec<(f64, f64, f64)>> {
-    let path = dir.join("drop.csv");
-    let text =
-        std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))?;
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
-    let col = |name: &str| {
-        header
-            .iter()
-            .position(|h| *h == name)
-            .with_context(|| format!("{}: no column {name}", path.display()))
-    };
-    let (t, w, h) = (col("t_star")?, col("width_star")?, col("height_star")?);
-    lines
-        .map(|line| {
-            let v: Vec<f64> = line
-                .split(',')
-                .map(|x| x.parse::<f64>())
-                .collect::<Result<_, _>>()
-                .with_context(|| format!("{}: bad row {line}", path.display()))?;
-            Ok((v[t], v[w], v[h]))
-        })
-        .collect()
+    let rows: Vec<DropRow> = table::read_rows(&dir.join("drop.csv"))?;
+    Ok(rows.iter().map(|r| (r.t_star, r.width, r.height)).collect())
 }
 
 /// W* (solid) and H* (dashed) against t* for each run, one colour per run.
@@ -199,9 +170,7 @@ pub fn compare_centrelines(runs: &[PathBuf], labels: &[String], out: &Path) -> R
     let mut profiles = Vec::new();
     for (k, dir) in runs.iter().enumerate() {
         let path = dir.join("centreline.csv");
-        let text = std::fs::read_to_string(&path)
-            .with_context(|| format!("reading {} (a cylinder run's)", path.display()))?;
-        let rows = crate::analysis::centreline::parse_csv(&text);
+        let rows: Vec<CentrelineRow> = table::read_rows(&path)?;
         anyhow::ensure!(!rows.is_empty(), "{}: no centre-line rows", path.display());
         let label = match labels.get(k) {
             Some(l) => l.clone(),

@@ -11,4 +11,5 @@ pub mod plot;
 pub mod rheometry;
 pub mod run;
 pub mod study;
+pub mod table;
 pub mod vtk;

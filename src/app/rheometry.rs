@@ -8,9 +8,10 @@ use crate::analysis::rheometry::{log_space, Oscillatory, Rheometer, SteadyShear,
 use crate::app::io::write_atomic;
 use crate::app::plot::FigureFormat;
 use crate::app::plot::{draw, Chart, Curve, CurveStyle, PALETTE};
+use crate::app::table::{self, fmt};
 use crate::setup::case::Case;
 use anyhow::{Context, Result};
-use std::fmt::Write as _;
+use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 /// Wi = λγ̇ of the start-up shear runs and λε̇ of the planar extension runs.
@@ -73,6 +74,56 @@ pub fn run(case: &Case, out: &Path, format: FigureFormat, quiet: bool) -> Result
     Ok(())
 }
 
+/// One row of `steady_shear.csv` (the analysis layer's [`SteadyShear`], to 9 digits).
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize)]
+pub struct SteadyShearRow {
+    #[serde(serialize_with = "fmt::sci8")]
+    pub shear_rate: f64,
+    #[serde(serialize_with = "fmt::sci8")]
+    pub viscosity: f64,
+    #[serde(serialize_with = "fmt::sci8")]
+    pub psi1: f64,
+    #[serde(serialize_with = "fmt::sci8")]
+    pub psi2: f64,
+    #[serde(serialize_with = "fmt::sci8")]
+    pub viscosity_exact: f64,
+    #[serde(serialize_with = "fmt::sci8")]
+    pub psi1_exact: f64,
+    #[serde(serialize_with = "fmt::sci8")]
+    pub psi2_exact: f64,
+}
+
+/// One row of `startup_shear.csv` or `planar_extension.csv`: a [`Transient`] sample of the
+/// run at `wi`.
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize)]
+pub struct TransientRow {
+    #[serde(serialize_with = "fmt::plain")]
+    pub wi: f64,
+    #[serde(serialize_with = "fmt::sci8")]
+    pub t: f64,
+    #[serde(serialize_with = "fmt::sci8")]
+    pub viscosity: f64,
+    #[serde(serialize_with = "fmt::sci8")]
+    pub psi1: f64,
+    #[serde(serialize_with = "fmt::sci8")]
+    pub viscosity_exact: f64,
+}
+
+/// One row of `saos.csv`: G′ and G″ at ω ([`Oscillatory`]) and their exact values.
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize)]
+pub struct SaosRow {
+    #[serde(serialize_with = "fmt::sci8")]
+    pub omega: f64,
+    #[serde(serialize_with = "fmt::sci8")]
+    pub g_storage: f64,
+    #[serde(serialize_with = "fmt::sci8")]
+    pub g_loss: f64,
+    #[serde(serialize_with = "fmt::sci8")]
+    pub g_storage_exact: f64,
+    #[serde(serialize_with = "fmt::sci8")]
+    pub g_loss_exact: f64,
+}
+
 fn curve(label: &str, points: Vec<(f64, f64)>, style: CurveStyle, k: usize) -> Curve {
     Curve {
         label: label.to_string(),
@@ -94,21 +145,19 @@ fn log_chart(title: &str, x: &str, y: &str) -> Chart {
 }
 
 fn write_steady(out: &Path, format: FigureFormat, rows: &[SteadyShear]) -> Result<()> {
-    let mut csv =
-        String::from("shear_rate,viscosity,psi1,psi2,viscosity_exact,psi1_exact,psi2_exact\n");
-    for p in rows {
-        let _ = writeln!(
-            csv,
-            "{:.8e},{:.8e},{:.8e},{:.8e},{:.8e},{:.8e},{:.8e}",
-            p.shear_rate,
-            p.viscosity,
-            p.psi1,
-            p.psi2,
-            p.viscosity_exact,
-            p.psi1_exact,
-            p.psi2_exact
-        );
-    }
+    let table_rows: Vec<SteadyShearRow> = rows
+        .iter()
+        .map(|p| SteadyShearRow {
+            shear_rate: p.shear_rate,
+            viscosity: p.viscosity,
+            psi1: p.psi1,
+            psi2: p.psi2,
+            viscosity_exact: p.viscosity_exact,
+            psi1_exact: p.psi1_exact,
+            psi2_exact: p.psi2_exact,
+        })
+        .collect();
+    let csv = table::write_rows(&table_rows);
     write_atomic(&out.join("steady_shear.csv"), csv.as_bytes())?;
     let series = |f: fn(&SteadyShear) -> f64| -> Vec<(f64, f64)> {
         rows.iter().map(|p| (p.shear_rate, f(p))).collect()
@@ -136,16 +185,16 @@ fn write_transients(
     title: &str,
     symbol: &str,
 ) -> Result<()> {
-    let mut csv = String::from("wi,t,viscosity,psi1,viscosity_exact\n");
+    let mut table_rows = Vec::new();
     let mut curves = Vec::new();
     for (k, (wi, samples)) in runs.iter().enumerate() {
-        for s in samples {
-            let _ = writeln!(
-                csv,
-                "{wi},{:.8e},{:.8e},{:.8e},{:.8e}",
-                s.t, s.viscosity, s.psi1, s.viscosity_exact
-            );
-        }
+        table_rows.extend(samples.iter().map(|s| TransientRow {
+            wi: *wi,
+            t: s.t,
+            viscosity: s.viscosity,
+            psi1: s.psi1,
+            viscosity_exact: s.viscosity_exact,
+        }));
         let points = |f: fn(&Transient) -> f64| samples.iter().map(|s| (s.t, f(s))).collect();
         let label = format!("{symbol}, Wi = {wi}");
         curves.push(curve(&label, points(|s| s.viscosity), CurveStyle::Line, k));
@@ -156,6 +205,7 @@ fn write_transients(
             k,
         ));
     }
+    let csv = table::write_rows(&table_rows);
     write_atomic(&out.join(format!("{name}.csv")), csv.as_bytes())?;
     let chart = Chart {
         log_x: false,
@@ -165,14 +215,17 @@ fn write_transients(
 }
 
 fn write_saos(out: &Path, format: FigureFormat, rows: &[Oscillatory]) -> Result<()> {
-    let mut csv = String::from("omega,g_storage,g_loss,g_storage_exact,g_loss_exact\n");
-    for o in rows {
-        let _ = writeln!(
-            csv,
-            "{:.8e},{:.8e},{:.8e},{:.8e},{:.8e}",
-            o.omega, o.storage, o.loss, o.storage_exact, o.loss_exact
-        );
-    }
+    let table_rows: Vec<SaosRow> = rows
+        .iter()
+        .map(|o| SaosRow {
+            omega: o.omega,
+            g_storage: o.storage,
+            g_loss: o.loss,
+            g_storage_exact: o.storage_exact,
+            g_loss_exact: o.loss_exact,
+        })
+        .collect();
+    let csv = table::write_rows(&table_rows);
     write_atomic(&out.join("saos.csv"), csv.as_bytes())?;
     let series = |f: fn(&Oscillatory) -> f64| -> Vec<(f64, f64)> {
         rows.iter().map(|o| (o.omega, f(o))).collect()

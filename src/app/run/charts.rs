@@ -2,6 +2,7 @@
 //! profiles across the channel, each against the analytic reference where there is one.
 
 use super::errors::ExactStresses;
+use super::probes::centreline::{CentrelineColumn, CentrelineRow};
 use crate::analysis::reference::Reference;
 use crate::app::io::SeriesRow;
 use crate::app::plot::FigureFormat;
@@ -185,14 +186,14 @@ fn profiles(
 }
 
 /// The charts of a channel with a cylinder: ⟨u⟩ and K against time, the averaged centre-line
-/// profiles (`profile` rows: s, u/⟨u⟩, τ_xx/(η_s⟨u⟩/R), det A), and the final vorticity and
+/// profiles (the rows of `centreline.csv`), and the final vorticity and
 /// tr A fields.
 pub fn cylinder(
     dir: &Path,
     format: FigureFormat,
     sim: &Simulation,
     rows: &[SeriesRow],
-    profile: &[[f64; 4]],
+    profile: &[CentrelineRow],
     disc: ((f64, f64), f64),
 ) -> Result<()> {
     let line = |points: Vec<(f64, f64)>| Curve {
@@ -223,21 +224,27 @@ pub fn cylinder(
         "K",
         &|r| r.drag_k,
     )?;
-    for (k, name, title, y) in [
+    let columns: [(CentrelineColumn, &str, &str, &str); 3] = [
         (
-            1,
+            |r| r.u_over_umean,
             "centreline_u.png",
             "Centre-line velocity between cylinders",
             "u/<u>",
         ),
         (
-            2,
+            |r| r.tau_xx_scaled,
             "centreline_tau_xx.png",
             "Centre-line polymer stress",
             "tau_xx/(eta_s <u>/R)",
         ),
-        (3, "centreline_det_a.png", "Centre-line det A", "det A"),
-    ] {
+        (
+            |r| r.det_a,
+            "centreline_det_a.png",
+            "Centre-line det A",
+            "det A",
+        ),
+    ];
+    for (value, name, title, y) in columns {
         plot::draw(
             &dir.join(name),
             format,
@@ -247,7 +254,7 @@ pub fn cylinder(
                 y_label: y.into(),
                 ..Default::default()
             },
-            &[line(profile.iter().map(|p| (p[0], p[k])).collect())],
+            &[line(profile.iter().map(|p| (p.s, value(p))).collect())],
         )?;
     }
     let points: Vec<(f64, f64)> = sim.state.position.iter().map(|p| (p.x, p.y)).collect();

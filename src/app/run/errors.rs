@@ -2,8 +2,9 @@
 
 use crate::analysis::reference::{Reference, StressProfiles};
 use crate::app::io::SeriesRow;
+use crate::app::table::{self, fmt};
 use crate::engine::step::Simulation;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// The analytic comparison at the first overshoot of the centre-line velocity.
 #[derive(Clone, Debug, Serialize, serde::Deserialize)]
@@ -156,6 +157,38 @@ pub fn final_errors(
     (errors, stresses)
 }
 
+/// One row of `profile.csv`: a particle at the end of the run. The analytic columns are
+/// empty where there is no reference (or no exact stress), so they are options.
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+pub struct ProfileRow {
+    #[serde(serialize_with = "fmt::sci8")]
+    pub x: f64,
+    #[serde(serialize_with = "fmt::sci8")]
+    pub y: f64,
+    #[serde(serialize_with = "fmt::sci8")]
+    pub u: f64,
+    #[serde(serialize_with = "fmt::sci8")]
+    pub v: f64,
+    #[serde(serialize_with = "fmt::opt_sci8")]
+    pub u_exact: Option<f64>,
+    #[serde(serialize_with = "fmt::sci8")]
+    pub tau_xx: f64,
+    #[serde(serialize_with = "fmt::sci8")]
+    pub tau_xy: f64,
+    #[serde(serialize_with = "fmt::sci8")]
+    pub tau_yy: f64,
+    #[serde(serialize_with = "fmt::opt_sci8")]
+    pub tau_xx_exact: Option<f64>,
+    #[serde(serialize_with = "fmt::opt_sci8")]
+    pub tau_xy_exact: Option<f64>,
+    #[serde(serialize_with = "fmt::opt_sci8")]
+    pub tau_yy_exact: Option<f64>,
+    #[serde(serialize_with = "fmt::sci8")]
+    pub p: f64,
+    #[serde(serialize_with = "fmt::sci8")]
+    pub eta: f64,
+}
+
 /// `profile.csv`: every particle at the end of the run with the analytic values at its height
 /// (empty where there is no reference), its pressure p and the viscosity η of its viscous term
 /// (η(γ̇) of a generalised Newtonian fluid, η_s otherwise), for post-processing and profile
@@ -173,28 +206,29 @@ pub fn profile_csv(
     }
     let tau = sim.polymer_stress();
     let eta = sim.viscosity();
-    let mut out = String::from(
-        "x,y,u,v,u_exact,tau_xx,tau_xy,tau_yy,tau_xx_exact,tau_xy_exact,tau_yy_exact,p,eta\n",
-    );
-    let blank = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:.8e}"));
-    for (i, p) in s.position.iter().enumerate() {
-        let ex = |f: fn(&ExactStresses) -> &Vec<f64>| stresses.map(|e| e.interpolate(f(e), p.y));
-        out.push_str(&format!(
-            "{:.8e},{:.8e},{:.8e},{:.8e},{},{:.8e},{:.8e},{:.8e},{},{},{},{:.8e},{:.8e}\n",
-            p.x,
-            p.y,
-            s.velocity[i].x,
-            s.velocity[i].y,
-            blank(has_reference.then(|| exact_u[i].x)),
-            tau[i].xx,
-            tau[i].xy,
-            tau[i].yy,
-            blank(ex(|e| &e.profiles.xx)),
-            blank(ex(|e| &e.profiles.xy)),
-            blank(ex(|e| &e.profiles.yy)),
-            s.pressure[i],
-            eta[i],
-        ));
-    }
-    out
+    let rows: Vec<ProfileRow> = s
+        .position
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let ex =
+                |f: fn(&ExactStresses) -> &Vec<f64>| stresses.map(|e| e.interpolate(f(e), p.y));
+            ProfileRow {
+                x: p.x,
+                y: p.y,
+                u: s.velocity[i].x,
+                v: s.velocity[i].y,
+                u_exact: has_reference.then(|| exact_u[i].x),
+                tau_xx: tau[i].xx,
+                tau_xy: tau[i].xy,
+                tau_yy: tau[i].yy,
+                tau_xx_exact: ex(|e| &e.profiles.xx),
+                tau_xy_exact: ex(|e| &e.profiles.xy),
+                tau_yy_exact: ex(|e| &e.profiles.yy),
+                p: s.pressure[i],
+                eta: eta[i],
+            }
+        })
+        .collect();
+    table::write_rows(&rows)
 }

@@ -5,21 +5,28 @@
 use super::{fitted_order, run_all, Base, Finished, Variant};
 use crate::app::plot::FigureFormat;
 use crate::app::plot::{self, Chart, Curve, CurveStyle, PALETTE};
+use crate::app::table::{self, fmt};
 use anyhow::Result;
-use std::fmt::Write as _;
+use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 /// One line of `convergence.csv`.
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct Row {
     pub frame: String,
     pub resolution: usize,
+    #[serde(serialize_with = "fmt::sci6")]
     pub spacing: f64,
     pub particles: usize,
     pub steps: u64,
+    #[serde(serialize_with = "fmt::fixed3")]
     pub wall_seconds: f64,
+    #[serde(serialize_with = "fmt::sci6")]
     pub l2_mean: f64,
+    #[serde(serialize_with = "fmt::sci6")]
     pub l2_final: f64,
     /// Order of l2_mean against the next coarser resolution of the same frame.
+    #[serde(serialize_with = "fmt::opt_fixed3")]
     pub order: Option<f64>,
 }
 
@@ -49,24 +56,7 @@ pub fn run(
     }
     let finished = run_all(base, variants, out, jobs, quiet)?;
     let rows = table(&finished, frames);
-    let mut csv = String::from(
-        "frame,resolution,spacing,particles,steps,wall_seconds,l2_mean,l2_final,order\n",
-    );
-    for r in &rows {
-        let _ = writeln!(
-            csv,
-            "{},{},{:.6e},{},{},{:.3},{:.6e},{:.6e},{}",
-            r.frame,
-            r.resolution,
-            r.spacing,
-            r.particles,
-            r.steps,
-            r.wall_seconds,
-            r.l2_mean,
-            r.l2_final,
-            r.order.map_or(String::new(), |o| format!("{o:.3}"))
-        );
-    }
+    let csv = table::write_rows(&rows);
     crate::app::io::write_atomic(&out.join("convergence.csv"), csv.as_bytes())?;
     charts(&finished, &rows, frames, out, format)?;
     Ok(rows)

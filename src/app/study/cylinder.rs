@@ -6,56 +6,66 @@
 use super::{run_all, Base, Variant};
 use crate::app::plot::FigureFormat;
 use crate::app::plot::{self, Chart, Curve, CurveStyle, PALETTE};
-use anyhow::{Context, Result};
+use crate::app::run::probes::centreline::{CentrelineColumn, CentrelineRow};
+use crate::app::table::{self, fmt};
+use anyhow::Result;
 use plotters::style::RGBColor;
-use std::fmt::Write as _;
+use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 /// One line of `cylinder.csv`.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct Row {
+    #[serde(serialize_with = "fmt::plain")]
     pub wi: f64,
     /// R/δr.
+    #[serde(serialize_with = "fmt::fixed4")]
     pub radius_over_dr: f64,
     pub outcome: String,
+    #[serde(serialize_with = "fmt::sci6")]
     pub t_reached: f64,
+    #[serde(serialize_with = "fmt::opt_sci6")]
     pub steady_at: Option<f64>,
+    #[serde(serialize_with = "fmt::sci8")]
     pub u_mean: f64,
     /// K from the momentum balance; the surface integral's K and its pressure, solvent and
     /// polymer parts.
+    #[serde(serialize_with = "fmt::sci8")]
     pub drag_k: f64,
+    #[serde(serialize_with = "fmt::sci8")]
     pub drag_k_surface: f64,
-    pub k_parts: [f64; 3],
+    #[serde(serialize_with = "fmt::sci6")]
+    pub k_pressure: f64,
+    #[serde(serialize_with = "fmt::sci6")]
+    pub k_solvent: f64,
+    #[serde(serialize_with = "fmt::sci6")]
+    pub k_polymer: f64,
+    #[serde(rename = "peak_tau_xx_centreline", serialize_with = "fmt::sci6")]
     pub peak_tau_xx: f64,
     /// Smallest det A over the averaging window, and over every output of the run.
+    #[serde(serialize_with = "fmt::sci6")]
     pub min_det_a: f64,
+    #[serde(serialize_with = "fmt::sci6")]
     pub min_det_a_run: f64,
     pub particles: usize,
     pub steps: u64,
+    #[serde(serialize_with = "fmt::fixed3")]
     pub wall_seconds: f64,
+}
+
+/// A row of a published drag table (`--reference`): Wi and K, by name (other columns are
+/// ignored).
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize)]
+pub struct ReferenceRow {
+    pub wi: f64,
+    pub k: f64,
 }
 
 /// Published (Wi, K) pairs from a CSV with a header and columns `wi,k` (extra columns and
 /// `#` comment lines are ignored).
 pub fn read_reference(path: &Path) -> Result<Vec<(f64, f64)>> {
-    let text =
-        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
-    let mut out = Vec::new();
-    for (n, line) in text
-        .lines()
-        .enumerate()
-        .filter(|(_, l)| !l.trim_start().starts_with('#'))
-        .skip(1)
-    {
-        let f: Vec<&str> = line.split(',').map(str::trim).collect();
-        let parse = |k: usize| -> Result<f64> {
-            f.get(k)
-                .and_then(|v| v.parse().ok())
-                .with_context(|| format!("{}: line {}: expected wi,k", path.display(), n + 1))
-        };
-        out.push((parse(0)?, parse(1)?));
-    }
-    Ok(out)
+    let rows: Vec<ReferenceRow> = table::read_rows_commented(path)?;
+    Ok(rows.iter().map(|r| (r.wi, r.k)).collect())
 }
 
 fn colour(k: usize) -> RGBColor {
@@ -130,20 +140,23 @@ pub fn run(
         rows.extend(finished.iter().zip(wis).map(|(f, &wi)| row(f, wi, radius)));
         from = finished.iter().map(|f| Some(f.dir.clone())).collect();
         if stage.is_none() {
-            let profiles: Vec<(f64, Vec<[f64; 4]>)> = finished
+            // A run that broke down before its steady window has no centre-line file: no curve.
+            let profiles: Vec<(f64, Vec<CentrelineRow>)> = finished
                 .iter()
                 .zip(wis)
                 .map(|(f, &wi)| {
-                    let text = std::fs::read_to_string(f.dir.join("centreline.csv"));
-                    let text = text.unwrap_or_default();
-                    (wi, crate::analysis::centreline::parse_csv(&text))
+                    let rows = table::read_rows(&f.dir.join("centreline.csv"));
+                    (wi, rows.unwrap_or_default())
                 })
                 .collect();
             let finest: Vec<Row> = rows[rows.len() - wis.len()..].to_vec();
             charts(out, format, &finest, &profiles, reference)?;
         }
     }
-    crate::app::io::write_atomic(&out.join("cylinder.csv"), csv(&rows).as_bytes())?;
+    crate::app::io::write_atomic(
+        &out.join("cylinder.csv"),
+        table::write_rows(&rows).as_bytes(),
+    )?;
     Ok(rows)
 }
 
@@ -198,7 +211,9 @@ fn row(f: &super::Finished, wi: f64, radius: f64) -> Row {
         u_mean: st.map_or(f64::NAN, |x| x.u_mean),
         drag_k: st.map_or(f64::NAN, |x| x.drag_k),
         drag_k_surface: st.map_or(f64::NAN, |x| x.drag_k_surface),
-        k_parts: st.map_or([f64::NAN; 3], |x| [x.k_pressure, x.k_solvent, x.k_polymer]),
+        k_pressure: st.map_or(f64::NAN, |x| x.k_pressure),
+        k_solvent: st.map_or(f64::NAN, |x| x.k_solvent),
+        k_polymer: st.map_or(f64::NAN, |x| x.k_polymer),
         peak_tau_xx: st.map_or(f64::NAN, |x| x.peak_tau_xx_centreline),
         min_det_a: st.map_or(f64::NAN, |x| x.min_det_a),
         min_det_a_run: f
@@ -218,10 +233,10 @@ fn charts(
     out: &Path,
     format: FigureFormat,
     rows: &[Row],
-    profiles: &[(f64, Vec<[f64; 4]>)],
+    profiles: &[(f64, Vec<CentrelineRow>)],
     reference: Option<&[(f64, f64)]>,
 ) -> Result<()> {
-    let labelled: Vec<(String, Vec<[f64; 4]>)> = profiles
+    let labelled: Vec<(String, Vec<CentrelineRow>)> = profiles
         .iter()
         .map(|(wi, p)| (format!("Wi = {wi}"), p.clone()))
         .collect();
@@ -260,25 +275,31 @@ fn charts(
 }
 
 /// The three centre-line charts (`centreline_u`, `centreline_tau_xx`, `centreline_det_a`)
-/// of labelled profiles (rows s, u/⟨u⟩, τ_xx/(η_s⟨u⟩/R), det A of `centreline.csv`), one
+/// of labelled profiles (the rows of each run's `centreline.csv`), one
 /// curve each: the study's charts, and `compare-centrelines` for any set of runs.
 pub fn centreline_charts(
     out: &Path,
     format: FigureFormat,
-    profiles: &[(String, Vec<[f64; 4]>)],
+    profiles: &[(String, Vec<CentrelineRow>)],
 ) -> Result<()> {
     // det A spans orders of magnitude over Wi (≥ 1 for Oldroyd-B): a log axis.
-    for (k, name, y, log_y) in [
-        (1, "centreline_u", "u/<u>", false),
-        (2, "centreline_tau_xx", "tau_xx/(eta_s <u>/R)", false),
-        (3, "centreline_det_a", "det A", true),
-    ] {
+    let columns: [(CentrelineColumn, &str, &str, bool); 3] = [
+        (|r| r.u_over_umean, "centreline_u", "u/<u>", false),
+        (
+            |r| r.tau_xx_scaled,
+            "centreline_tau_xx",
+            "tau_xx/(eta_s <u>/R)",
+            false,
+        ),
+        (|r| r.det_a, "centreline_det_a", "det A", true),
+    ];
+    for (value, name, y, log_y) in columns {
         let curves: Vec<Curve> = profiles
             .iter()
             .enumerate()
             .map(|(c, (label, p))| Curve {
                 label: label.clone(),
-                points: p.iter().map(|q| (q[0], q[k])).collect(),
+                points: p.iter().map(|q| (q.s, value(q))).collect(),
                 style: CurveStyle::Line,
                 color: colour(c),
             })
@@ -297,36 +318,6 @@ pub fn centreline_charts(
         )?;
     }
     Ok(())
-}
-
-fn csv(rows: &[Row]) -> String {
-    let mut s = String::from(
-        "wi,radius_over_dr,outcome,t_reached,steady_at,u_mean,drag_k,drag_k_surface,k_pressure,k_solvent,k_polymer,peak_tau_xx_centreline,min_det_a,min_det_a_run,particles,steps,wall_seconds\n",
-    );
-    for r in rows {
-        let _ = writeln!(
-            s,
-            "{},{:.4},{},{:.6e},{},{:.8e},{:.8e},{:.8e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{},{},{:.3}",
-            r.wi,
-            r.radius_over_dr,
-            r.outcome,
-            r.t_reached,
-            r.steady_at.map_or(String::new(), |t| format!("{t:.6e}")),
-            r.u_mean,
-            r.drag_k,
-            r.drag_k_surface,
-            r.k_parts[0],
-            r.k_parts[1],
-            r.k_parts[2],
-            r.peak_tau_xx,
-            r.min_det_a,
-            r.min_det_a_run,
-            r.particles,
-            r.steps,
-            r.wall_seconds
-        );
-    }
-    s
 }
 
 #[cfg(test)]

@@ -8,26 +8,35 @@ use super::{run_all, Base, Variant};
 use crate::app::io::SeriesRow;
 use crate::app::plot::FigureFormat;
 use crate::app::plot::{self, Chart, Curve, CurveStyle, PALETTE};
+use crate::app::table::{self, fmt};
 use anyhow::Result;
-use std::fmt::Write as _;
+use serde::{Deserialize, Serialize};
 use std::path::Path;
 
-/// One configuration's cost and error.
+/// One configuration's cost and error: a line of `speed_accuracy.csv`.
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct Point {
     pub label: String,
-    /// The `--vary` part of the label (without the resolution).
+    /// The `--vary` part of the label (without the resolution); not a column.
+    #[serde(skip)]
     pub variant: String,
     pub resolution: usize,
-    pub wall_seconds: f64,
-    pub l2_mean: f64,
-    pub l2_final: f64,
     pub particles: usize,
     pub steps: u64,
+    #[serde(serialize_with = "fmt::fixed3")]
+    pub wall_seconds: f64,
+    #[serde(serialize_with = "fmt::sci6")]
+    pub l2_mean: f64,
+    #[serde(serialize_with = "fmt::sci6")]
+    pub l2_final: f64,
     pub pareto: bool,
     /// The largest ratio of this run's L2 error to the first variant's at the same
     /// resolution, over the outputs (t > 0) within both runs, and the time it occurs (NaN:
     /// no common output).
-    pub max_output_ratio: (f64, f64),
+    #[serde(serialize_with = "fmt::fixed4")]
+    pub max_output_ratio: f64,
+    #[serde(serialize_with = "fmt::fixed4")]
+    pub ratio_at: f64,
 }
 
 /// The largest ratio of `run`'s L2 error to `reference`'s, the reference interpolated
@@ -93,49 +102,35 @@ pub fn run(
     let finished = run_all(base, variants, out, jobs, quiet)?;
     let mut points: Vec<Point> = finished
         .iter()
-        .map(|f| Point {
-            label: f.variant.label.clone(),
-            variant: f
-                .variant
-                .tags
-                .iter()
-                .find(|(k, _)| k == "variant")
-                .map_or(String::new(), |(_, v)| v.clone()),
-            resolution: f.case.scene.resolution(),
-            wall_seconds: f.summary.wall_seconds,
-            l2_mean: f.summary.errors.l2_time_mean.unwrap_or(f64::NAN),
-            l2_final: f.summary.errors.l2_final.unwrap_or(f64::NAN),
-            particles: f.summary.particles,
-            steps: f.summary.steps,
-            pareto: false,
-            max_output_ratio: finished
+        .map(|f| {
+            let ratio = finished
                 .iter()
                 .find(|g| g.case.scene.resolution() == f.case.scene.resolution())
                 .map_or((f64::NAN, f64::NAN), |g| {
                     max_output_ratio(&f.series, &g.series)
-                }),
+                });
+            Point {
+                label: f.variant.label.clone(),
+                variant: f
+                    .variant
+                    .tags
+                    .iter()
+                    .find(|(k, _)| k == "variant")
+                    .map_or(String::new(), |(_, v)| v.clone()),
+                resolution: f.case.scene.resolution(),
+                wall_seconds: f.summary.wall_seconds,
+                l2_mean: f.summary.errors.l2_time_mean.unwrap_or(f64::NAN),
+                l2_final: f.summary.errors.l2_final.unwrap_or(f64::NAN),
+                particles: f.summary.particles,
+                steps: f.summary.steps,
+                pareto: false,
+                max_output_ratio: ratio.0,
+                ratio_at: ratio.1,
+            }
         })
         .collect();
     mark_pareto(&mut points);
-    let mut csv = String::from(
-        "label,resolution,particles,steps,wall_seconds,l2_mean,l2_final,pareto,max_output_ratio,ratio_at\n",
-    );
-    for p in &points {
-        let _ = writeln!(
-            csv,
-            "{},{},{},{},{:.3},{:.6e},{:.6e},{},{:.4},{:.4}",
-            p.label,
-            p.resolution,
-            p.particles,
-            p.steps,
-            p.wall_seconds,
-            p.l2_mean,
-            p.l2_final,
-            p.pareto,
-            p.max_output_ratio.0,
-            p.max_output_ratio.1
-        );
-    }
+    let csv = table::write_rows(&points);
     super::draw_l2_histories(&finished, out, format)?;
     crate::app::io::write_atomic(&out.join("speed_accuracy.csv"), csv.as_bytes())?;
     let mut front: Vec<(f64, f64)> = points
@@ -198,7 +193,8 @@ mod tests {
             particles: 0,
             steps: 0,
             pareto: false,
-            max_output_ratio: (f64::NAN, f64::NAN),
+            max_output_ratio: f64::NAN,
+            ratio_at: f64::NAN,
         };
         let mut pts = vec![p(1.0, 0.1), p(2.0, 0.05), p(3.0, 0.2), p(4.0, 0.01)];
         mark_pareto(&mut pts);

@@ -12,13 +12,16 @@ use super::{run_all, Base, Variant};
 use crate::app::plot::FigureFormat;
 use crate::app::plot::{self, style, Chart, Curve, CurveStyle};
 use crate::app::run::Outcome;
-use anyhow::{Context, Result};
-use std::fmt::Write as _;
+use crate::app::table::{self, fmt};
+use anyhow::Result;
+use serde::{Deserialize, Serialize};
 use std::path::Path;
 
-/// Classification of one run.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// Classification of one run (the `outcome` column).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Result3 {
+    #[default]
     Stable,
     Inaccurate,
     BrokeDown,
@@ -34,16 +37,25 @@ impl Result3 {
     }
 }
 
-/// One line of `stability.csv`.
+/// One line of `stability.csv`. Its `reason` is always in double quotes (its own quotes made
+/// single), as the file has always had it, so it is written by
+/// [`table::write_rows_verbatim`]; the variant labels hold no commas.
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct Row {
     pub variant: String,
+    #[serde(serialize_with = "fmt::plain")]
     pub wi: f64,
     pub outcome: Result3,
+    #[serde(serialize_with = "fmt::opt_sci6")]
     pub t_breakdown: Option<f64>,
+    #[serde(serialize_with = "fmt::quoted")]
     pub reason: Option<String>,
+    #[serde(serialize_with = "fmt::opt_sci6")]
     pub l2_mean: Option<f64>,
+    #[serde(serialize_with = "fmt::opt_sci6")]
     pub l2_final: Option<f64>,
     pub steps: u64,
+    #[serde(serialize_with = "fmt::fixed3")]
     pub wall_seconds: f64,
 }
 
@@ -109,61 +121,15 @@ pub fn run(
             }
         })
         .collect();
-    let mut csv =
-        String::from("variant,wi,outcome,t_breakdown,reason,l2_mean,l2_final,steps,wall_seconds\n");
-    let opt = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:.6e}"));
-    for r in &rows {
-        let _ = writeln!(
-            csv,
-            "{},{},{},{},\"{}\",{},{},{},{:.3}",
-            r.variant,
-            r.wi,
-            r.outcome.name(),
-            opt(r.t_breakdown),
-            r.reason.as_deref().unwrap_or("").replace('"', "'"),
-            opt(r.l2_mean),
-            opt(r.l2_final),
-            r.steps,
-            r.wall_seconds
-        );
-    }
+    let csv = table::write_rows_verbatim(&rows);
     crate::app::io::write_atomic(&out.join("stability.csv"), csv.as_bytes())?;
     map(&rows, accuracy, out, format)?;
     Ok(rows)
 }
 
-/// Redraws the map of a finished study from its `stability.csv` (variant, Wi and outcome
-/// are the first three columns; the variant labels hold no commas).
+/// Redraws the map of a finished study from its `stability.csv`.
 pub fn replot(out: &Path, format: FigureFormat, accuracy: f64) -> Result<()> {
-    let path = out.join("stability.csv");
-    let text =
-        std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))?;
-    let rows = text
-        .lines()
-        .skip(1)
-        .map(|line| {
-            let mut f = line.splitn(4, ',');
-            let (variant, wi, outcome) = (f.next(), f.next(), f.next());
-            let bad = || anyhow::anyhow!("{}: bad row {line}", path.display());
-            let outcome = match outcome.ok_or_else(bad)? {
-                "stable" => Result3::Stable,
-                "inaccurate" => Result3::Inaccurate,
-                "broke_down" => Result3::BrokeDown,
-                _ => return Err(bad()),
-            };
-            Ok(Row {
-                variant: variant.ok_or_else(bad)?.to_string(),
-                wi: wi.ok_or_else(bad)?.parse().map_err(|_| bad())?,
-                outcome,
-                t_breakdown: None,
-                reason: None,
-                l2_mean: None,
-                l2_final: None,
-                steps: 0,
-                wall_seconds: 0.0,
-            })
-        })
-        .collect::<Result<Vec<_>>>()?;
+    let rows: Vec<Row> = table::read_rows(&out.join("stability.csv"))?;
     map(&rows, accuracy, out, format)
 }
 

@@ -14,11 +14,11 @@ use crate::analysis::analytic::stokes_cavity::{parabola_vertex, StokesCavity};
 use crate::analysis::grid::{interpolate_on, GridSpec};
 use crate::app::io::{self, SeriesRow};
 use crate::app::plot::{self, Chart, Curve, CurveStyle, FigureFormat, PALETTE};
+use crate::app::table::{self, fmt};
 use crate::engine::math::Vec2;
 use crate::engine::step::Simulation;
 use anyhow::Result;
-use serde::Serialize;
-use std::fmt::Write as _;
+use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 /// Cells per side of the finite-difference Stokes reference (ψ_min within 1e-5 relative).
@@ -42,6 +42,22 @@ struct Lines {
     v: Vec<f64>,
     u_stokes: Vec<f64>,
     v_stokes: Vec<f64>,
+}
+
+/// One row of `cavity.csv`: the profiles at s_k, u(L/2, s) and v(s, 3L/4) beside the Stokes
+/// flow's (NaN where there is none), to 9 digits.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct CavityRow {
+    #[serde(serialize_with = "fmt::sci9")]
+    pub s: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    pub u_x_half: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    pub u_stokes: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    pub v_y_three_quarters: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    pub v_stokes: f64,
 }
 
 /// The numbers of one flow (scaled by U and L).
@@ -145,22 +161,19 @@ impl CavityProbe {
     }
 
     fn csv(&self) -> String {
-        let mut s = String::from("s,u_x_half,u_stokes,v_y_three_quarters,v_stokes\n");
-        if let Some(l) = &self.lines {
-            for k in 0..l.s.len() {
-                let st = |v: &[f64]| v.get(k).copied().unwrap_or(f64::NAN);
-                let _ = writeln!(
-                    s,
-                    "{:.9e},{:.9e},{:.9e},{:.9e},{:.9e}",
-                    l.s[k],
-                    l.u[k],
-                    st(&l.u_stokes),
-                    l.v[k],
-                    st(&l.v_stokes)
-                );
-            }
-        }
-        s
+        let rows: Vec<CavityRow> = self.lines.as_ref().map_or_else(Vec::new, |l| {
+            let st = |v: &[f64], k: usize| v.get(k).copied().unwrap_or(f64::NAN);
+            (0..l.s.len())
+                .map(|k| CavityRow {
+                    s: l.s[k],
+                    u_x_half: l.u[k],
+                    u_stokes: st(&l.u_stokes, k),
+                    v_y_three_quarters: l.v[k],
+                    v_stokes: st(&l.v_stokes, k),
+                })
+                .collect()
+        });
+        table::write_rows(&rows)
     }
 
     /// `cavity.png`: u(L/2, y)/U against y/L, beside the Stokes flow's.

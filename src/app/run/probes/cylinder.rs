@@ -2,6 +2,7 @@
 //! F_x/(η0⟨u⟩) and parts in every series row, the steady state of ⟨u⟩ and the averages after
 //! it (`[run.steady]`, King & Lind §IV B), `centreline.csv` and the cylinder charts.
 
+use super::centreline::CentrelineRow;
 use super::steady::{Averages, SteadySummary};
 use super::Probe;
 use crate::analysis::centreline::Centreline;
@@ -9,6 +10,7 @@ use crate::analysis::forces;
 use crate::app::io::{self, SeriesRow};
 use crate::app::plot::FigureFormat;
 use crate::app::run::charts;
+use crate::app::table;
 use crate::engine::boundary::Circle;
 use crate::engine::step::Simulation;
 use crate::engine::timing::Stage;
@@ -157,7 +159,8 @@ impl Probe for CylinderProbe {
         let mut summary = avg.summary(self.state.steady_at, eta_s, radius, &self.centreline.s);
         let balance = forces::momentum_balance(sim, &self.circle, self.samples, summary.u_mean);
         summary.momentum_balance = Some(balance);
-        let csv = centreline_csv(&self.centreline, &avg, &summary, eta_s, radius);
+        let centreline = centreline_rows(&self.centreline, &avg, &summary, eta_s, radius);
+        let csv = table::write_rows(&centreline);
         io::write_atomic(&dir.join("centreline.csv"), csv.as_bytes())?;
         if let Some(format) = charts {
             let c = self.circle.centre;
@@ -166,7 +169,8 @@ impl Probe for CylinderProbe {
                 format,
                 sim,
                 rows,
-                &crate::analysis::centreline::parse_csv(&csv),
+                // The charts show the file's values, as a later `compare-centrelines` does.
+                &table::parse_rows::<CentrelineRow>(&csv, "centreline.csv")?,
                 ((c.x, c.y), radius),
             )?;
         }
@@ -174,27 +178,23 @@ impl Probe for CylinderProbe {
     }
 }
 
-/// `centreline.csv`: s (0 at the cylinder's downstream edge), u/⟨u⟩, τ_xx/(η_s⟨u⟩/R), det A,
-/// time-averaged over the steady window.
-fn centreline_csv(
+/// The rows of `centreline.csv`.
+fn centreline_rows(
     line: &Centreline,
     avg: &Averages,
     summary: &SteadySummary,
     eta_s: f64,
     radius: f64,
-) -> String {
+) -> Vec<CentrelineRow> {
     let profile = avg.profile();
     let u = summary.u_mean;
     let tau_scale = eta_s * u / radius;
-    let mut out = String::from("s,u_over_umean,tau_xx_scaled,det_a\n");
-    for k in 0..line.s.len() {
-        out.push_str(&format!(
-            "{:.6e},{:.8e},{:.8e},{:.8e}\n",
-            line.s[k],
-            profile.u[k] / u,
-            profile.tau_xx[k] / tau_scale,
-            profile.det_a[k]
-        ));
-    }
-    out
+    (0..line.s.len())
+        .map(|k| CentrelineRow {
+            s: line.s[k],
+            u_over_umean: profile.u[k] / u,
+            tau_xx_scaled: profile.tau_xx[k] / tau_scale,
+            det_a: profile.det_a[k],
+        })
+        .collect()
 }

@@ -8,22 +8,43 @@
 use super::Probe;
 use crate::app::io::{self, SeriesRow};
 use crate::app::plot::{self, Chart, Curve, CurveStyle, FigureFormat, PALETTE};
+use crate::app::table::{self, fmt};
 use crate::engine::step::Simulation;
-use anyhow::{Context, Result};
-use serde::Serialize;
-use std::fmt::Write as _;
+use anyhow::Result;
+use serde::{Deserialize, Serialize};
 use std::path::Path;
 
-/// One disc at one output time.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// One disc at one output time: a row of `disc.csv`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct DiscRow {
+    #[serde(serialize_with = "fmt::sci9")]
     pub t: f64,
     pub disc: usize,
-    /// x, y, V_x, V_y, Ω, F_x, F_y, T, and the contact force C_x, C_y.
-    pub values: [f64; 10],
+    /// The centre.
+    #[serde(serialize_with = "fmt::sci9")]
+    pub x: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    pub y: f64,
+    /// The disc's velocity V and spin Ω.
+    #[serde(serialize_with = "fmt::sci9")]
+    pub vx: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    pub vy: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    pub spin: f64,
+    /// The fluid's force F and torque T on the disc.
+    #[serde(serialize_with = "fmt::sci9")]
+    pub fx: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    pub fy: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    pub torque: f64,
+    /// The contact force C (other discs and walls).
+    #[serde(serialize_with = "fmt::sci9")]
+    pub contact_x: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    pub contact_y: f64,
 }
-
-const HEADER: &str = "t,disc,x,y,vx,vy,spin,fx,fy,torque,contact_x,contact_y";
 
 /// The summary of one disc.
 #[derive(Clone, Debug, Serialize)]
@@ -50,15 +71,7 @@ impl DiscProbe {
     }
 
     pub fn csv(&self) -> String {
-        let mut s = format!("{HEADER}\n");
-        for r in &self.rows {
-            let _ = write!(s, "{:.9e},{}", r.t, r.disc);
-            for v in r.values {
-                let _ = write!(s, ",{v:.9e}");
-            }
-            s.push('\n');
-        }
-        s
+        table::write_rows(&self.rows)
     }
 
     fn discs(&self) -> usize {
@@ -70,20 +83,20 @@ impl DiscProbe {
         (0..self.discs())
             .map(|k| {
                 let rows: Vec<&DiscRow> = self.rows.iter().filter(|r| r.disc == k).collect();
-                let last = rows.last().map_or([f64::NAN; 10], |r| r.values);
+                let last = |f: fn(&DiscRow) -> f64| rows.last().map_or(f64::NAN, |r| f(r));
                 let late: Vec<f64> = rows
                     .iter()
                     .filter(|r| r.t >= 0.5 * t_end)
-                    .map(|r| r.values[4])
+                    .map(|r| r.spin)
                     .collect();
                 DiscSummary {
                     rotation_ratio: self
                         .shear_rate
                         .filter(|_| !late.is_empty())
                         .map(|g| late.iter().sum::<f64>() / late.len() as f64 / (-0.5 * g)),
-                    final_centre: [last[0], last[1]],
-                    final_velocity: [last[2], last[3]],
-                    final_spin: last[4],
+                    final_centre: [last(|r| r.x), last(|r| r.y)],
+                    final_velocity: [last(|r| r.vx), last(|r| r.vy)],
+                    final_spin: last(|r| r.spin),
                 }
             })
             .collect()
@@ -99,7 +112,7 @@ impl DiscProbe {
                     .rows
                     .iter()
                     .filter(|r| r.disc == k)
-                    .map(|r| (r.t, r.values[4] / scale))
+                    .map(|r| (r.t, r.spin / scale))
                     .collect(),
                 style: CurveStyle::Line,
                 color: PALETTE[k % PALETTE.len()],
@@ -139,18 +152,16 @@ impl Probe for DiscProbe {
             self.rows.push(DiscRow {
                 t,
                 disc: k,
-                values: [
-                    c.x,
-                    c.y,
-                    d.velocity.x,
-                    d.velocity.y,
-                    d.spin,
-                    f.x,
-                    f.y,
-                    load.torque(),
-                    contact.x,
-                    contact.y,
-                ],
+                x: c.x,
+                y: c.y,
+                vx: d.velocity.x,
+                vy: d.velocity.y,
+                spin: d.spin,
+                fx: f.x,
+                fy: f.y,
+                torque: load.torque(),
+                contact_x: contact.x,
+                contact_y: contact.y,
             });
         }
     }
@@ -161,20 +172,9 @@ impl Probe for DiscProbe {
 
     /// The rows up to `t` from `disc.csv`.
     fn restore(&mut self, dir: &Path, t: f64, _state: Option<&serde_json::Value>) -> Result<()> {
-        let path = dir.join("disc.csv");
-        let text = std::fs::read_to_string(&path)
-            .with_context(|| format!("reading {}", path.display()))?;
-        self.rows = text
-            .lines()
-            .skip(1)
-            .filter_map(|line| {
-                let v: Vec<f64> = line.split(',').filter_map(|x| x.parse().ok()).collect();
-                (v.len() == 12).then(|| DiscRow {
-                    t: v[0],
-                    disc: v[1] as usize,
-                    values: std::array::from_fn(|k| v[k + 2]),
-                })
-            })
+        let rows: Vec<DiscRow> = table::read_rows(&dir.join("disc.csv"))?;
+        self.rows = rows
+            .into_iter()
             .filter(|r| r.t <= t * (1.0 + 1e-9))
             .collect();
         Ok(())

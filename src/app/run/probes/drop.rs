@@ -29,10 +29,12 @@ use crate::analysis::analytic::DropMode;
 use crate::app::io::{self, SeriesRow};
 use crate::app::plot::FigureFormat;
 use crate::app::plot::{self, Chart, Curve, CurveStyle, PALETTE};
+use crate::app::table::{self, fmt};
 use crate::engine::math::Vec2;
 use crate::engine::rheology::{Fluid, Model};
 use crate::engine::step::Simulation;
 use anyhow::Result;
+use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 /// The drop-impact summary (see `drop.csv` for the histories).
@@ -69,29 +71,41 @@ pub struct DropSummary {
     pub contact_angle: Option<f64>,
 }
 
-/// One row of `drop.csv`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// One row of `drop.csv`. The free-drop columns (`mode2` on) came later: a file written
+/// before them reads them as NaN, as `compare-drops` and a resumed run need.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct DropRow {
+    #[serde(serialize_with = "fmt::sci8")]
     pub t: f64,
+    #[serde(serialize_with = "fmt::sci6")]
     pub t_star: f64,
+    #[serde(rename = "width_star", serialize_with = "fmt::sci6")]
     pub width: f64,
+    #[serde(rename = "height_star", serialize_with = "fmt::sci6")]
     pub height: f64,
+    #[serde(serialize_with = "fmt::sci6")]
     pub area: f64,
+    #[serde(serialize_with = "fmt::sci4")]
     pub area_drift: f64,
     pub surface_particles: usize,
+    #[serde(serialize_with = "fmt::sci6")]
     pub max_trace_a: f64,
+    #[serde(default = "table::nan", serialize_with = "fmt::sci8")]
     pub mode2: f64,
+    #[serde(default = "table::nan", serialize_with = "fmt::sci8")]
     pub interior_pressure: f64,
+    #[serde(default = "table::nan", serialize_with = "fmt::sci6")]
     pub max_speed: f64,
     /// Σ m_i/ρ_i over N δV, the volume at ρ0 (1 for the projection, whose particles keep
-    /// ρ0; the weakly compressible scheme's compression).
+    /// ρ0; the weakly compressible scheme's compression). NaN in a file written before the
+    /// column existed.
+    #[serde(default = "table::nan", serialize_with = "fmt::sci8")]
     pub volume: f64,
-    /// A sessile drop's fitted contact angle in degrees (NaN for other drops).
+    /// A sessile drop's fitted contact angle in degrees (NaN for other drops, and in a file
+    /// written before the column existed).
+    #[serde(default = "table::nan", serialize_with = "fmt::sci6")]
     pub contact_angle: f64,
 }
-
-const HEADER: &str = "t,t_star,width_star,height_star,area,area_drift,surface_particles,max_trace_a,mode2,interior_pressure,max_speed,volume,contact_angle";
-const COLUMNS: usize = 13;
 
 /// The drop probe of a run: its diameter and impact speed, and the rows so far.
 pub struct DropProbe {
@@ -122,28 +136,10 @@ impl DropProbe {
 
     /// Rows of a resumed run up to time `t` (from its `drop.csv`).
     fn restore_rows(&mut self, dir: &Path, t: f64) -> Result<()> {
-        let text = std::fs::read_to_string(dir.join("drop.csv"))?;
-        for line in text.lines().skip(1) {
-            let v: Vec<f64> = line.split(',').filter_map(|s| s.parse().ok()).collect();
-            // Times are written to 9 digits: a row at t itself may read back a hair later.
-            if v.len() == COLUMNS && v[0] <= t * (1.0 + 1e-8) {
-                self.rows.push(DropRow {
-                    t: v[0],
-                    t_star: v[1],
-                    width: v[2],
-                    height: v[3],
-                    area: v[4],
-                    area_drift: v[5],
-                    surface_particles: v[6] as usize,
-                    max_trace_a: v[7],
-                    mode2: v[8],
-                    interior_pressure: v[9],
-                    max_speed: v[10],
-                    volume: v[11],
-                    contact_angle: v[12],
-                });
-            }
-        }
+        let rows: Vec<DropRow> = table::read_rows(&dir.join("drop.csv"))?;
+        // Times are written to 9 digits: a row at t itself may read back a hair later.
+        self.rows
+            .extend(rows.into_iter().filter(|r| r.t <= t * (1.0 + 1e-8)));
         self.reference_area = self.rows.iter().map(|r| r.area).find(|a| a.is_finite());
         Ok(())
     }
@@ -228,27 +224,7 @@ impl DropProbe {
 
     /// `drop.csv`.
     pub fn csv(&self) -> String {
-        let mut out = String::from(HEADER);
-        out.push('\n');
-        for r in &self.rows {
-            out.push_str(&format!(
-                "{:.8e},{:.6e},{:.6e},{:.6e},{:.6e},{:.4e},{},{:.6e},{:.8e},{:.8e},{:.6e},{:.8e},{:.6e}\n",
-                r.t,
-                r.t_star,
-                r.width,
-                r.height,
-                r.area,
-                r.area_drift,
-                r.surface_particles,
-                r.max_trace_a,
-                r.mode2,
-                r.interior_pressure,
-                r.max_speed,
-                r.volume,
-                r.contact_angle
-            ));
-        }
-        out
+        table::write_rows(&self.rows)
     }
 
     /// The largest |area drift| so far.

@@ -11,20 +11,25 @@ use super::Probe;
 use crate::app::io::{self, SeriesRow};
 use crate::app::plot::FigureFormat;
 use crate::app::plot::{self, Chart, Curve, CurveStyle, PALETTE};
+use crate::app::table::{self, fmt};
 use crate::engine::step::Simulation;
 use anyhow::Result;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 /// One row of `jet.csv`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct JetRow {
+    #[serde(serialize_with = "fmt::sci6")]
     pub t: f64,
     pub particles: usize,
     /// Lowest fluid particle, over D.
+    #[serde(rename = "tip_over_d", serialize_with = "fmt::sci6")]
     pub tip: f64,
     /// x_b/D, NaN while the band is empty.
+    #[serde(rename = "band_x_over_d", serialize_with = "fmt::sci6")]
     pub band_x: f64,
+    #[serde(serialize_with = "fmt::sci6")]
     pub max_trace_a: f64,
 }
 
@@ -92,14 +97,7 @@ impl JetProbe {
     }
 
     pub fn csv(&self) -> String {
-        let mut out = String::from("t,particles,tip_over_d,band_x_over_d,max_trace_a\n");
-        for r in &self.rows {
-            out.push_str(&format!(
-                "{:.6e},{},{:.6e},{:.6e},{:.6e}\n",
-                r.t, r.particles, r.tip, r.band_x, r.max_trace_a
-            ));
-        }
-        out
+        table::write_rows(&self.rows)
     }
 
     pub fn summary(&self, spacing: f64, (wall_holds, detached): (u64, (u64, f64))) -> JetSummary {

@@ -36,27 +36,46 @@
 use super::Probe;
 use crate::app::io::{self, SeriesRow};
 use crate::app::plot::{self, Chart, Curve, CurveStyle, FigureFormat, PALETTE};
+use crate::app::table::{self, fmt};
 use crate::engine::math::Vec2;
 use crate::engine::rheology::Fluid;
 use crate::engine::step::Simulation;
 use crate::setup::scenes::pool::Pool;
 use anyhow::Result;
+use serde::{Deserialize, Serialize};
 use std::path::Path;
 
-const HEADER: &str =
-    "t,level,wall_left,wall_right,plate_left,plate_right,gap_mean,gap_centre,level_count,gap_surface";
-
-/// One row of `meniscus.csv` (NaN where the pool has no plates).
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// One row of `meniscus.csv` (NaN where the pool has no plates), every value to 9 digits.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct MeniscusRow {
+    #[serde(serialize_with = "fmt::sci9")]
     pub t: f64,
+    #[serde(serialize_with = "fmt::sci9")]
     pub level: f64,
-    pub wall: [f64; 2],
-    pub plate: [f64; 2],
+    #[serde(serialize_with = "fmt::sci9")]
+    pub wall_left: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    pub wall_right: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    pub plate_left: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    pub plate_right: f64,
+    #[serde(serialize_with = "fmt::sci9")]
     pub gap_mean: f64,
+    #[serde(serialize_with = "fmt::sci9")]
     pub gap_centre: f64,
+    #[serde(serialize_with = "fmt::sci9")]
     pub level_count: f64,
+    /// NaN in a file written before the column existed.
+    #[serde(default = "table::nan", serialize_with = "fmt::sci9")]
     pub gap_surface: f64,
+}
+
+impl MeniscusRow {
+    /// The mean rise at the tank's two walls.
+    fn wall_mean(&self) -> f64 {
+        0.5 * (self.wall_left + self.wall_right)
+    }
 }
 
 /// The meniscus summary: the rises averaged over the second half of the rows (a wide tank
@@ -216,8 +235,10 @@ impl MeniscusProbe {
         MeniscusRow {
             t,
             level,
-            wall,
-            plate,
+            wall_left: wall[0],
+            wall_right: wall[1],
+            plate_left: plate[0],
+            plate_right: plate[1],
             gap_mean,
             gap_centre,
             level_count,
@@ -255,8 +276,8 @@ impl MeniscusProbe {
         let mean =
             |f: &dyn Fn(&MeniscusRow) -> f64| late.iter().map(f).sum::<f64>() / late.len() as f64;
         let plates = self.pool.plates.is_some();
-        let wall_rise = mean(&|r| 0.5 * (r.wall[0] + r.wall[1]));
-        let plate_rise = plates.then(|| mean(&|r| 0.5 * (r.plate[0] + r.plate[1])));
+        let wall_rise = mean(&|r| r.wall_mean());
+        let plate_rise = plates.then(|| mean(&|r| 0.5 * (r.plate_left + r.plate_right)));
         let exact = self.wall_rise_exact();
         let plate_exact = plates.then(|| self.rise_exact(self.pool.contact_angle));
         let relative = |rise: f64, exact: f64| (exact != 0.0).then(|| rise / exact - 1.0);
@@ -267,7 +288,7 @@ impl MeniscusProbe {
             if plates {
                 r.gap_mean
             } else {
-                0.5 * (r.wall[0] + r.wall[1])
+                r.wall_mean()
             }
         };
         let (lo, hi) = late
@@ -298,26 +319,7 @@ impl MeniscusProbe {
     }
 
     pub fn csv(&self) -> String {
-        let mut out = String::from(HEADER);
-        out.push('\n');
-        for r in &self.rows {
-            let values = [
-                r.t,
-                r.level,
-                r.wall[0],
-                r.wall[1],
-                r.plate[0],
-                r.plate[1],
-                r.gap_mean,
-                r.gap_centre,
-                r.level_count,
-                r.gap_surface,
-            ];
-            let line: Vec<String> = values.iter().map(|v| format!("{v:.9e}")).collect();
-            out.push_str(&line.join(","));
-            out.push('\n');
-        }
-        out
+        table::write_rows(&self.rows)
     }
 
     fn chart(&self, dir: &Path, format: FigureFormat) -> Result<()> {
@@ -331,7 +333,7 @@ impl MeniscusProbe {
         let mut curves = vec![
             curve(
                 "at the walls",
-                &|r| 0.5 * (r.wall[0] + r.wall[1]),
+                &|r| r.wall_mean(),
                 PALETTE[0],
                 CurveStyle::Line,
             ),
@@ -377,23 +379,9 @@ impl Probe for MeniscusProbe {
     }
 
     fn restore(&mut self, dir: &Path, t: f64, _state: Option<&serde_json::Value>) -> Result<()> {
-        let text = std::fs::read_to_string(dir.join("meniscus.csv"))?;
-        for line in text.lines().skip(1) {
-            let v: Vec<f64> = line.split(',').filter_map(|s| s.parse().ok()).collect();
-            // Rows written before `gap_surface` existed have nine columns.
-            if (v.len() == 9 || v.len() == 10) && v[0] <= t * (1.0 + 1e-8) {
-                self.rows.push(MeniscusRow {
-                    t: v[0],
-                    level: v[1],
-                    wall: [v[2], v[3]],
-                    plate: [v[4], v[5]],
-                    gap_mean: v[6],
-                    gap_centre: v[7],
-                    level_count: v[8],
-                    gap_surface: v.get(9).copied().unwrap_or(f64::NAN),
-                });
-            }
-        }
+        let rows: Vec<MeniscusRow> = table::read_rows(&dir.join("meniscus.csv"))?;
+        self.rows
+            .extend(rows.into_iter().filter(|r| r.t <= t * (1.0 + 1e-8)));
         Ok(())
     }
 

@@ -6,6 +6,7 @@
 //! that decides when it applies.
 
 pub mod cavity;
+pub mod centreline;
 pub mod cylinder;
 pub mod disc;
 pub mod drop;
