@@ -326,11 +326,8 @@ pub(crate) mod fixture {
     use crate::engine::operators::KernelSums;
 
     pub struct WalledLattice {
-        /// Fluid positions, then the mirrors'.
-        pub points: Vec<Vec2>,
         /// Fluid particles.
         pub n: usize,
-        pub spacing: f64,
         pub ghosts: Ghosts,
         pub list: NeighbourList,
         pub sums: KernelSums,
@@ -364,9 +361,7 @@ pub(crate) mod fixture {
         let mut sums = KernelSums::default();
         sums.update(&list, &kernel, dr * dr);
         WalledLattice {
-            points,
             n,
-            spacing: dr,
             ghosts,
             list,
             sums,

@@ -162,9 +162,6 @@ pub struct PressureStage {
     strategy: Strategy,
     /// u* followed by the ghosts' values.
     velocity_ext: Vec<Vec2>,
-    /// u* extended as the divergence sees it under wall-pressure offsets
-    /// ([`Ghosts::continue_force`](crate::engine::boundary::Ghosts::continue_force)).
-    continued: Vec<Vec2>,
     divergence: Vec<f64>,
     pressure_ext: Vec<f64>,
     gradient: Vec<Vec2>,
@@ -181,7 +178,6 @@ impl PressureStage {
             settings,
             strategy: settings.solver.strategy(frame),
             velocity_ext: Vec::new(),
-            continued: Vec::new(),
             divergence: Vec::new(),
             pressure_ext: Vec::new(),
             gradient: Vec::new(),
@@ -195,7 +191,6 @@ impl PressureStage {
         use crate::engine::vec_bytes as b;
         self.system.heap_bytes()
             + b(&self.velocity_ext)
-            + b(&self.continued)
             + b(&self.divergence)
             + b(&self.pressure_ext)
             + b(&self.gradient)
@@ -220,24 +215,12 @@ impl PressureStage {
         self.matrix_stale = true;
     }
 
-    /// Step 5: ∇·u* (negative form of (20)), with u* extended to the ghosts. With
-    /// `wall_pressure` = Some(δt/ρ) (the PPE solves for the pressure itself, whose ghosts
-    /// carry the offsets of [`WallPressure::Momentum`](crate::engine::boundary::WallPressure)),
-    /// the ghosts' u* carry the force the offsets balance
-    /// ([`Ghosts::continue_force`](crate::engine::boundary::Ghosts::continue_force));
-    /// [`Self::velocity_star_ext`] stays the plain mirror.
-    pub fn divergence(&mut self, hood: Hood, velocity_star: &[Vec2], wall_pressure: Option<f64>) {
+    /// Step 5: ∇·u* (negative form of (20)), with u* extended to the ghosts.
+    pub fn divergence(&mut self, hood: Hood, velocity_star: &[Vec2]) {
         let Hood { list, sums, ghosts } = hood;
         ghosts.continue_velocity(velocity_star, &mut self.velocity_ext);
         self.divergence.resize(velocity_star.len(), 0.0);
-        match wall_pressure.filter(|_| !ghosts.pressure_offsets().is_empty()) {
-            Some(dt_over_rho) => {
-                self.continued.clone_from(&self.velocity_ext);
-                ghosts.continue_force(dt_over_rho, &mut self.continued);
-                sums.divergence(list, &self.continued, &mut self.divergence);
-            }
-            None => sums.divergence(list, &self.velocity_ext, &mut self.divergence),
-        }
+        sums.divergence(list, &self.velocity_ext, &mut self.divergence);
     }
 
     /// The PPE's divergence of the last [`Self::divergence`], for terms that add to it (the
@@ -252,18 +235,8 @@ impl PressureStage {
     }
 
     /// Step 5: the matrix (when the particles moved, or a row is blended) and the right-hand
-    /// side, with the free surface's `rows`; with `wall_pressure` (the pressure itself, not
-    /// an increment) the ghosts' offsets of
-    /// [`WallPressure::Momentum`](crate::engine::boundary::WallPressure) are moved to the
-    /// right-hand side ([`wall_pressure_rhs`]) of every row but the Dirichlet ones.
-    pub fn assemble(
-        &mut self,
-        hood: Hood,
-        density: f64,
-        dt: f64,
-        rows: SurfaceRows,
-        wall_pressure: bool,
-    ) {
+    /// side, with the free surface's `rows`.
+    pub fn assemble(&mut self, hood: Hood, density: f64, dt: f64, rows: SurfaceRows) {
         // A blended row's weight changes with (36)'s margin even where the particles
         // stand still (an Eulerian frame), and so does a row that was blended last step.
         if !rows.blended.is_empty() || !self.system.blended.is_empty() {
@@ -276,9 +249,6 @@ impl PressureStage {
         }
         let system = &mut self.system;
         system.assemble_rhs(&self.divergence, dt, rows.dirichlet, rows.values);
-        if wall_pressure {
-            wall_pressure_rhs(hood, density, rows.dirichlet, &mut system.rhs);
-        }
         system.blend_rhs_rows(rows.values);
     }
 
@@ -313,21 +283,16 @@ impl PressureStage {
         self.system.solve(unknown, &options)
     }
 
-    /// Step 6, eq. (26): u* −= (δt/ρ)∇φ, φ the solved field (p^{n+1}, `full`, whose ghosts
-    /// carry the wall's offsets, or its increment, whose ghosts do not).
+    /// Step 6, eq. (26): u* −= (δt/ρ)∇φ, φ the solved field (p^{n+1} or its increment).
     pub fn project(
         &mut self,
         hood: Hood,
-        (solved, full): (&[f64], bool),
+        solved: &[f64],
         dt_over_rho: f64,
         velocity_star: &mut [Vec2],
     ) {
         let Hood { list, sums, ghosts } = hood;
-        if full {
-            ghosts.extend_full_pressure(solved, &mut self.pressure_ext);
-        } else {
-            ghosts.extend_pressure(solved, &mut self.pressure_ext);
-        }
+        ghosts.extend_pressure(solved, &mut self.pressure_ext);
         self.gradient.resize(velocity_star.len(), Vec2::zeros());
         sums.gradient_scalar(list, &self.pressure_ext, &mut self.gradient);
         velocity_star
@@ -350,30 +315,6 @@ impl PressureStage {
     pub fn factorisations(&self) -> usize {
         self.system.factorisations()
     }
-}
-
-/// Row i of `−∇²p/ρ` holds `−(1/ρ) Σ_j w_ij (p_i − p_j)`, and a ghost of
-/// [`WallPressure::Momentum`](crate::engine::boundary::WallPressure) carries `p_g = p_k + c_g`:
-/// its constant part `(1/ρ) Σ_g w_ig c_g` leaves the folded matrix for `rhs`. Rows flagged
-/// in `rows` (Dirichlet) are left alone; nothing to do without offsets.
-pub fn wall_pressure_rhs(hood: Hood, density: f64, rows: &[bool], rhs: &mut [f64]) {
-    let Hood { list, sums, ghosts } = hood;
-    let offsets = ghosts.pressure_offsets();
-    if offsets.is_empty() {
-        return;
-    }
-    let n = rhs.len();
-    rhs.par_iter_mut()
-        .enumerate()
-        .filter(|(i, _)| !rows.get(*i).copied().unwrap_or(false))
-        .for_each(|(i, b)| {
-            let constant: f64 = list
-                .range(i)
-                .filter(|&k| list.index[k] as usize >= n)
-                .map(|k| sums.ppe_weight(list, k) * offsets[list.index[k] as usize - n])
-                .sum();
-            *b -= constant / density;
-        });
 }
 
 /// `[scheme.ppe]`: how the PPE (25) is built and solved.

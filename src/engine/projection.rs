@@ -80,7 +80,7 @@ impl ProjectionStage {
             Projection::Standard => None,
             Projection::Incremental => {
                 self.old_gradient.resize(pressure.len(), Vec2::zeros());
-                ghosts.extend_full_pressure(pressure, &mut self.pressure_ext);
+                ghosts.extend_pressure(pressure, &mut self.pressure_ext);
                 sums.gradient_scalar(list, &self.pressure_ext, &mut self.old_gradient);
                 Some(&self.old_gradient)
             }

@@ -2,7 +2,7 @@
 //! builds one stage object per choice ([`crate::engine::step::Simulation::new`]); nothing
 //! re-tests these inside the time loop.
 
-use crate::engine::boundary::{TensorMirror, WallModel, WallPressure};
+use crate::engine::boundary::{TensorMirror, WallModel};
 use crate::engine::frame::Frame;
 use crate::engine::free_surface::{FreeSurfaceSettings, SurfaceTensionSettings, WettingSettings};
 use crate::engine::kinematics::ConstitutiveGradient;
@@ -54,8 +54,6 @@ pub struct Scheme {
     pub wall_velocity: crate::engine::boundary::VelocityExtension,
     /// Where the body force enters: the predictor or a reduced pressure.
     pub gravity: crate::engine::gravity::Gravity,
-    /// The Neumann condition of the wall pressure: ∂p/∂n = 0 or the normal momentum balance.
-    pub wall_pressure: WallPressure,
     /// The gradient's and the Laplacian's variants.
     pub operators: OperatorSettings,
     /// `[scheme.free_surface]`.

@@ -4,7 +4,6 @@
 //! A variant moves to its stage's table when it wins a measured comparison on two shipped
 //! cases, or goes (its finding in the decision log) when it loses one.
 
-use crate::engine::boundary::WallPressure;
 use crate::engine::free_surface::{
     ContactAngleAt, ContactCurvature, ContactRows, SurfaceGradient, SurfaceIndicator, SurfaceShear,
 };
@@ -28,9 +27,6 @@ pub struct ExperimentalSpec {
     /// `raw`) where the scene's `auto` would choose otherwise; set by the jet only.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub velocity_gradient: Option<GradientChoice>,
-    /// The wall ghosts' pressure: `momentum` (∂p/∂n = n·(∇·Φ + ρg)) instead of Neumann.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub wall_pressure: Option<WallPressure>,
     /// The free-surface pressure's velocity gradient over the particle's own side of the
     /// surface (`own-side`); set by the jet only.
     #[serde(skip_serializing_if = "Option::is_none")]

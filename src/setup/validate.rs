@@ -221,7 +221,6 @@ fn with_experimental(written: &SchemeSpec, e: &ExperimentalSpec) -> SchemeSpec {
         &mut scheme.conformation.velocity_gradient,
         e.velocity_gradient,
     );
-    set(&mut scheme.walls.pressure, e.wall_pressure);
     set(&mut scheme.free_surface.gradient, e.surface_gradient);
     set(&mut scheme.free_surface.contact_rows, e.contact_rows);
     set(&mut scheme.free_surface.indicator, e.surface_indicator);
@@ -515,7 +514,6 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
         }),
         wall_model: s.walls.model,
         wall_velocity: wall_velocity(s.walls.velocity, scene, fluid, open),
-        wall_pressure: s.walls.pressure,
         gravity: gravity(s, scene)?,
         operators: OperatorSettings {
             ppe_laplacian: s.ppe.laplacian,

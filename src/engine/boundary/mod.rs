@@ -12,7 +12,6 @@ pub mod continuation;
 pub mod fixed;
 pub mod inflow;
 pub mod shape;
-pub mod wall_pressure;
 
 pub use condition::{
     NoSlip, RegularisedLid, RigidNoSlip, SlidingNoSlip, TensorMirror, WallCondition,
@@ -20,7 +19,6 @@ pub use condition::{
 pub use continuation::VelocityExtension;
 pub use fixed::WallModel;
 pub use shape::{Circle, Corner, Plane, Plate, Shape};
-pub use wall_pressure::WallPressure;
 
 use crate::engine::math::{Sym2, Vec2};
 use crate::engine::neighbours::Domain;
@@ -40,11 +38,6 @@ pub struct WallSettings {
     /// quadratic continuation through the wall velocity): the no-slip walls' ghost
     /// velocities ([`VelocityExtension`], [`WallVelocityChoice`]).
     pub velocity: WallVelocityChoice,
-    /// `neumann` (∂p/∂n = 0, the paper's) or `momentum` (∂p/∂n = n·(∇·Φ + ρg)): the
-    /// pressure the wall ghosts carry ([`wall_pressure`]).
-    /// Read from `[experimental]` (`setup::experimental`), not from this table.
-    #[serde(skip)]
-    pub pressure: WallPressure,
     /// How the conformation is carried onto wall mirrors; unset = `linear`, or `even` in a
     /// scene with a free surface, where the continuation is not validated (the weakly
     /// compressible drop of `cases/drop-fang.toml` without artificial stress then broke down
@@ -182,11 +175,6 @@ pub struct Ghosts {
     /// Each wall's s and s_p (see [`condition`]).
     velocity_sign: Vec<f64>,
     pressure_sign: Vec<f64>,
-    /// c_g of `p_g = s_p p_k + c_g` for the pressure itself, set each step under
-    /// [`WallPressure::Momentum`] (empty: homogeneous Neumann; see [`wall_pressure`]).
-    pressure_offset: Vec<f64>,
-    /// n·f_k of each ghost's offset (0 where none), for [`Self::continue_force`].
-    normal_force: Vec<f64>,
     /// The box whose periodic axes circles are seen across (None: no periodic images).
     pub domain: Option<Domain>,
     /// δr of the fixed ghost lattice behind every wall (None: mirrors).
@@ -222,8 +210,6 @@ impl Ghosts {
             + b(&self.volume)
             + b(&self.normal)
             + b(&self.offset)
-            + b(&self.pressure_offset)
-            + b(&self.normal_force)
             + b(&self.near)
             + b(&self.lattice_ghosts)
             + b(&self.built_shapes)
@@ -286,8 +272,6 @@ impl Ghosts {
         self.normal.clear();
         self.arm.clear();
         self.offset.clear();
-        self.pressure_offset.clear();
-        self.normal_force.clear();
         self.built_shapes.clear();
         self.built_shapes.extend(self.walls.iter().map(|w| w.shape));
         let moving = self.walls.iter().any(|w| w.condition.moves());
@@ -349,8 +333,6 @@ impl Ghosts {
     /// normals and offsets: the same mirrors, in the same order, for a Verlet skin.
     pub fn refresh(&mut self, points: &mut Vec<Vec2>) {
         let moving = self.walls.iter().any(|w| w.condition.moves());
-        self.pressure_offset.clear();
-        self.normal_force.clear();
         for g in 0..self.parent.len() {
             let wall = &self.walls[self.wall[g] as usize];
             let parent = points[self.parent[g] as usize];
@@ -554,9 +536,8 @@ impl Ghosts {
         }
     }
 
-    /// Fluid pressures followed by the ghosts' `p_j = s_p p_i`: an increment's, or the
-    /// pressure's under the homogeneous Neumann condition (the pressure itself takes
-    /// [`Self::extend_full_pressure`]).
+    /// Fluid pressures followed by the ghosts' `p_j = s_p p_i` (the homogeneous Neumann
+    /// condition), for the pressure or an increment.
     pub fn extend_pressure(&self, fluid: &[f64], out: &mut Vec<f64>) {
         out.clear();
         out.extend_from_slice(fluid);

@@ -13,7 +13,7 @@ use crate::engine::math::Vec2;
 use crate::engine::neighbourhood::Neighbourhood;
 use crate::engine::neighbours::Domain;
 use crate::engine::pressure::{PpeSettings, PressureStage};
-use crate::engine::projection::{Projection, ProjectionStage};
+use crate::engine::projection::ProjectionStage;
 use crate::engine::rheology::Fluid;
 use crate::engine::state::{Scales, State};
 use crate::engine::timing::{Stage, StageSeconds};
@@ -139,9 +139,7 @@ impl ProjectionMethod {
         let free_surface = &mut c.free_surface;
         let (gravity, factor) = (c.gravity, c.viscosity_factor);
         c.timers.time(Stage::PpeAssembly, || {
-            let wall_pressure = projection.kind == Projection::Standard;
-            let continued = wall_pressure.then_some(dt / fluid.density);
-            pressure.divergence(hood, c.velocity_star, continued);
+            pressure.divergence(hood, c.velocity_star);
             let divergence = pressure.divergence_mut();
             projection.stabilise(hood, &s.pressure, (fluid.density, dt), divergence);
             let dirichlet = free_surface.as_mut().map(|fs| {
@@ -163,7 +161,7 @@ impl ProjectionMethod {
                 fs.dirichlet()
             });
             let rows = dirichlet.unwrap_or_default();
-            pressure.assemble(hood, fluid.density, dt, rows, wall_pressure);
+            pressure.assemble(hood, fluid.density, dt, rows);
             let surface = free_surface.as_ref().map(|fs| &fs.surface);
             let support = |i| surface.map_or(RowSupport::Full, |s| s.row_support(i));
             pressure.relax_volume(hood, support, dt);
@@ -192,9 +190,8 @@ impl ProjectionMethod {
         let buffer = inflow.map_or(&[][..], |b| &b.flags);
         let (free_surface, detached) = (&mut c.free_surface, &mut c.detached);
         c.timers.time(Stage::Projection, || {
-            let full = projection.kind == Projection::Standard;
             let solved = projection.update_pressure(&mut s.pressure);
-            pressure.project(hood.parts(), (solved, full), dt_over_rho, u_star);
+            pressure.project(hood.parts(), solved, dt_over_rho, u_star);
             if let Some(fs) = free_surface.as_mut() {
                 fs.hold_off_walls(u_star);
             }

@@ -27,7 +27,7 @@ use crate::engine::bodies::contact::Contact;
 use crate::engine::bodies::traction::FluidView;
 use crate::engine::bodies::{Bodies, Coupling, Disc, DiscMotion, DiscSet};
 use crate::engine::boundary::inflow::Inflow;
-use crate::engine::boundary::{Ghosts, Wall, WallPressure};
+use crate::engine::boundary::{Ghosts, Wall};
 use crate::engine::drive::{bulk_velocity, Drive};
 use crate::engine::frame::StepVelocities;
 use crate::engine::free_surface::{
@@ -122,9 +122,6 @@ struct Stages {
     /// Free surfaces under the projection: the detached bodies whose momentum the step
     /// keeps (None: not corrected).
     detached: Option<DetachedBodies>,
-    /// Under [`WallPressure::Momentum`], the force density ∇·Φ + ρg whose normal part the
-    /// wall ghosts' pressure continues (None: ∂p/∂n = 0).
-    wall_force: Option<Vec<Vec2>>,
 }
 
 /// A running simulation.
@@ -243,7 +240,6 @@ impl Simulation {
                 && scheme.method == Method::Projection
                 && scheme.free_surface.detached_momentum == DetachedMomentum::Conserved)
                 .then(DetachedBodies::default),
-            wall_force: (scheme.wall_pressure == WallPressure::Momentum).then(Vec::new),
         };
         let mut sim = Self {
             kernel,
@@ -431,7 +427,6 @@ impl Simulation {
         self.kinematics(dt);
         self.constitutive_update(dt);
         self.shift_pressure(Gravity::reduce);
-        self.wall_pressure();
         let projected = self
             .predictor(dt)
             .and_then(|iterations| Ok((iterations, self.correct(dt)?)));
@@ -685,28 +680,6 @@ impl Simulation {
             timers: &mut self.timers,
             dt,
         })
-    }
-
-    /// Before step 4, under [`WallPressure::Momentum`]: the ghosts' pressure offsets from
-    /// this step's ∇·Φ^{n+½} and body force (see [`crate::engine::boundary::wall_pressure`]).
-    fn wall_pressure(&mut self) {
-        let st = &mut self.stages;
-        let Some(force) = st.wall_force.as_mut() else {
-            return;
-        };
-        let t0 = std::time::Instant::now();
-        let g = self.scheme.gravity.predictor_force(self.state.body_force);
-        let rho_g = self.fluid.density * g;
-        let n = self.state.position.len();
-        force.clear();
-        match st.conformation.as_ref().and_then(|c| c.stress_divergence()) {
-            Some(div_phi) => force.extend(div_phi.iter().map(|d| d + rho_g)),
-            None => force.resize(n, rho_g),
-        }
-        let hood = &mut st.hood;
-        hood.ghosts.set_pressure_gradient(&hood.points, force);
-        self.timers
-            .add(Stage::Predictor, t0.elapsed().as_secs_f64());
     }
 
     /// Step 7: r^{n+1}, eq. (27); u^{n+1} becomes the state; an inflow feeds new particles.

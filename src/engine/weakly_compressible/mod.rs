@@ -306,7 +306,7 @@ impl WeakStage {
     pub fn momentum(&mut self, m: &MomentumInputs) -> &[Vec2] {
         let Hood { list, sums, ghosts } = m.hood;
         let n = m.pressure.len();
-        ghosts.extend_full_pressure(m.pressure, &mut self.pressure_ext);
+        ghosts.extend_pressure(m.pressure, &mut self.pressure_ext);
         self.fill_stresses(m);
         self.acceleration.resize(n, Vec2::zeros());
         let (p_ext, tau_ext, r_ext) = (&self.pressure_ext, &self.stress_ext, &self.artificial_ext);
@@ -391,7 +391,7 @@ impl WeakStage {
         let Hood { list, sums, ghosts } = hood;
         let n = pressure.len();
         ghosts.extend_velocity(velocity, &mut self.velocity_ext);
-        ghosts.extend_full_pressure(pressure, &mut self.pressure_ext);
+        ghosts.extend_pressure(pressure, &mut self.pressure_ext);
         let delta = self.settings.density_diffusion;
         let c = self.eos.sound_speed;
         self.gradient_ext.clear();
