@@ -46,6 +46,7 @@ fn coarse_oldroyd_b_start_up_couette_follows_the_series() {
     for (viscosity, wall) in [
         ("explicit", "mirror"),
         ("implicit", "mirror"),
+        ("crank-nicolson", "mirror"),
         ("explicit", "fixed-ghost"),
         ("implicit", "fixed-ghost"),
     ] {

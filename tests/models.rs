@@ -1,10 +1,11 @@
 //! The non-linear constitutive models in the channel, against their exact steady solutions,
 //! at the coarse resolution CI can afford (H/δr = 15, t = 5). Measured there with the walls'
-//! continuations: velocity relative L2 0.4–1.2 %, τ_xy 0.3–1.7 %, τ_xx 0.3–2.0 % (FENE-P,
-//! FENE-CR, PTT; with the mirrors' rules 3.5–7.1 %, 1.2–5.3 %, 1.7–10.4 %; Giesekus below).
-//! The bounds were set ~1.5× above the mirrors' values; a wrong strain or relaxation function, source step or steady
-//! solution moves these by tens of percent (e.g. the L-PTT centre-line velocity is 2.67U, the
-//! Oldroyd-B one U).
+//! continuations and the default (`auto`: Crank–Nicolson) viscosity: velocity relative L2
+//! 0.4–1.1 %, τ_xy 0.4–1.7 %, τ_xx 0.3–2.0 % (FENE-P, FENE-CR, PTT; explicit viscosity within
+//! 0.15 percentage points of these; with the mirrors' rules 3.5–7.1 %, 1.2–5.3 %, 1.7–10.4 %;
+//! Giesekus below). The bounds were set ~1.5× above the mirrors' values; a wrong strain or
+//! relaxation function, source step or steady solution moves these by tens of percent (e.g.
+//! the L-PTT centre-line velocity is 2.67U, the Oldroyd-B one U).
 
 mod common;
 use common::run_quiet;
@@ -56,23 +57,21 @@ fn exponential_ptt_reaches_its_steady_profile() {
     check("eptt", 0.06, 0.03, 0.04);
 }
 
-/// Giesekus without solvent (β = 0, α_V = 0.1): also τ_yy, which only Giesekus has.
-/// Measured at t = 5: u 5.3 %, τ_xy 1.6 %, τ_xx 11.1 %, τ_yy 16.7 % with the walls'
-/// continuations (8.1 %, 2.0 %, 6.7 %, 6.6 % with the mirrors' rules); at H/δr = 30 2.3 %,
-/// 0.5 %, 5.3 %, 6.7 %. The normal stresses of this case are worse at H/δr = 15 with the
-/// tensor's continuation and the cause is not yet found; the bounds sit ~1.5× above.
+/// Giesekus without solvent (β = 0, α_V = 0.1, explicit viscosity as its case sets): also
+/// τ_yy, which only Giesekus has. Measured at t = 5: u 1.2 %, τ_xy 1.1 %, τ_xx 4.6 %, τ_yy 6.7 %.
+/// The bounds sit ~1.5× above.
 #[test]
 fn giesekus_reaches_its_steady_profile() {
     let s = coarse("giesekus", &[]);
     let e = &s.errors;
-    assert!(e.u_relative_l2.unwrap() < 0.08, "u {:?}", e.u_relative_l2);
+    assert!(e.u_relative_l2.unwrap() < 0.02, "u {:?}", e.u_relative_l2);
     assert!(
-        e.tau_xy_relative_l2.unwrap() < 0.03,
+        e.tau_xy_relative_l2.unwrap() < 0.02,
         "τxy {:?}",
         e.tau_xy_relative_l2
     );
     assert!(
-        e.tau_yy_relative_l2.unwrap() < 0.25,
+        e.tau_yy_relative_l2.unwrap() < 0.10,
         "τyy {:?}",
         e.tau_yy_relative_l2
     );

@@ -83,13 +83,15 @@ impl Case {
 }
 use crate::engine::boundary::WallModel;
 use crate::engine::gravity::Gravity;
+use crate::engine::kernel::H_OVER_DR;
 use crate::engine::kinematics::{ConstitutiveGradient, GradientChoice};
 use crate::engine::operators::{GradientOrder, LaplacianOrder, OperatorSettings};
 use crate::engine::rheology::{ConformationIntegrator, ConformationScheme, IntegratorChoice};
-use crate::engine::viscosity::Viscosity;
+use crate::engine::viscosity::{advective_limit, viscous_limit, Viscosity};
 use crate::engine::weakly_compressible::sound_speed_for;
 use crate::setup::schema::{
     CaseFile, FluidSpec, GravityChoice, MethodChoice, ProjectionChoice, RunSpec, SchemeSpec,
+    ViscosityChoice,
 };
 
 /// What graded resolution (`scene.refine_walls`) needs of the scheme: particles that stay
@@ -418,12 +420,56 @@ fn wall_velocity(
     }
 }
 
+/// Past this ratio of the explicit step's advective to viscous limit, η0/(ρUh), Crank–Nicolson's
+/// undamped stiff modes spoil the start-up: the Oldroyd-B channel (H/δr = 30, Wi = 1) had an L2
+/// mean of 8.7 % at a ratio of 231 (backward Euler 0.37 %) and broke down at 2310; at 23–77
+/// Crank–Nicolson was as accurate as the explicit scheme (validation pages).
+const CRANK_NICOLSON_STIFFNESS: f64 = 100.0;
+
+/// `scheme.viscosity`, its `auto` resolved ([`ViscosityChoice::Auto`] says why): the
+/// explicit step's advective limit h/U at the scene's velocity scale against its viscous
+/// limit ρh²/η0, both of (28).
+fn viscosity(
+    choice: ViscosityChoice,
+    method: Method,
+    scene: &dyn Scene,
+    fluid: &Fluid,
+) -> Viscosity {
+    match choice {
+        ViscosityChoice::Auto => {
+            let h = H_OVER_DR * scene.spacing();
+            let u = scene.velocity_scale(fluid);
+            let stiffness = advective_limit(h, u) / viscous_limit(fluid, h);
+            // Crank–Nicolson was measured on channels only; free surfaces and bodies keep
+            // backward Euler, which every such shipped case was validated with.
+            let channel = !scene.has_free_surface()
+                && scene.cylinder().is_none()
+                && scene.discs() == 0
+                && scene.cavity().is_none();
+            match method {
+                Method::WeaklyCompressible(_) => Viscosity::Explicit,
+                Method::Projection if stiffness <= 1.0 => Viscosity::Explicit,
+                Method::Projection if channel && stiffness <= CRANK_NICOLSON_STIFFNESS => {
+                    Viscosity::CrankNicolson
+                }
+                Method::Projection => Viscosity::Implicit,
+            }
+        }
+        ViscosityChoice::Explicit => Viscosity::Explicit,
+        ViscosityChoice::Implicit => Viscosity::Implicit,
+        ViscosityChoice::CrankNicolson => Viscosity::CrankNicolson,
+    }
+}
+
 /// `scheme.conformation.integrator`, its `auto` resolved ([`IntegratorChoice::Auto`] says
 /// why).
-fn conformation_integrator(s: &SchemeSpec) -> Result<ConformationIntegrator, FieldError> {
+fn conformation_integrator(
+    s: &SchemeSpec,
+    viscosity: Viscosity,
+) -> Result<ConformationIntegrator, FieldError> {
     let log = s.conformation.form == ConformationScheme::Log;
     Ok(match s.conformation.integrator {
-        IntegratorChoice::Auto if s.viscosity == Viscosity::CrankNicolson => {
+        IntegratorChoice::Auto if viscosity == Viscosity::CrankNicolson => {
             ConformationIntegrator::Strang
         }
         IntegratorChoice::Auto if s.frame == Frame::Eulerian && log => {
@@ -444,6 +490,7 @@ fn conformation_integrator(s: &SchemeSpec) -> Result<ConformationIntegrator, Fie
 fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, FieldError> {
     let open = scene.has_free_surface();
     let method = method(s, scene, fluid)?;
+    let viscosity = viscosity(s.viscosity, method, scene, fluid);
     // 0 restores the stability rules (so `--set` can undo a case file's fixed step).
     let time_step = (s.time_step.validate()).map_err(|e| stage_err("scheme.time_step", e))?;
     frame_fits(s, scene)?;
@@ -463,7 +510,7 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
         time_step,
         frame: s.frame,
         conformation: s.conformation.form,
-        conformation_integrator: conformation_integrator(s)?,
+        conformation_integrator: conformation_integrator(s, viscosity)?,
         constitutive_gradient: match s.conformation.velocity_gradient {
             // With free surfaces the traceless part is not taken: the coarse Oldroyd-B drop
             // (W/δr = 20, Re = 4, De = 1) lost a contact-line particle through the plate at
@@ -478,7 +525,7 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
         evss_alpha: s.conformation.evss_alpha,
         hourglass_control: s.conformation.hourglass_control,
         dt_factor: s.time_step.factor,
-        viscosity: s.viscosity,
+        viscosity,
         projection: match s.projection {
             // The incremental projection only where the standard one's O(νδt/L²) splitting
             // error matters, in creeping flow past a body with implicit viscosity; elsewhere
@@ -492,7 +539,7 @@ fn scheme(s: &SchemeSpec, scene: &dyn Scene, fluid: &Fluid) -> Result<Scheme, Fi
             // L/δr = 40: u on x = L/2 within 11.8 % of the Stokes flow with the standard
             // projection, 1.1 % with the incremental one at Re = 1).
             ProjectionChoice::Auto
-                if s.viscosity.is_implicit()
+                if viscosity.is_implicit()
                     && !open
                     && (scene.cylinder().is_some()
                         || scene.discs() > 0
