@@ -101,12 +101,7 @@ impl Continuation {
 
     /// The stencils of `ghosts` in the configuration of `list`, `sums` (the first `n_fluid`
     /// points the fluid's).
-    pub fn build(
-        &mut self,
-        pairs: PairKernel,
-        n_fluid: usize,
-        ghosts: &GhostView,
-    ) {
+    pub fn build(&mut self, pairs: PairKernel, n_fluid: usize, ghosts: &GhostView) {
         let list = pairs.list;
         let count = ghosts.parent.len();
         self.stencils.resize_with(count, Stencil::default);
