@@ -7,6 +7,9 @@
 #   plots/regenerate.sh poiseuille # the Poiseuille studies only (about 1.5 h)
 #   plots/regenerate.sh cylinders  # the cylinder array and the confined cylinder
 #   plots/regenerate.sh surfaces   # drops and jets
+#   plots/regenerate.sh models     # the non-linear models' and Couette's shipped cases (a minute)
+# Then `rheosph gallery` rewrites the validation pages' generated tables from the runs and
+# lists every committed number that changed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo build --release
@@ -189,3 +192,18 @@ for l in 10 100; do
 done
 $R run $J --set fluid.model=giesekus --set fluid.alpha=0.3 --out plots/jet-buckling/giesekus/alpha_0.3 || true
 fi
+
+if [ "$part" = all ] || [ "$part" = models ]; then
+# The shipped channel cases of the non-linear models and the Couette start-up, each with its
+# default scheme, and the coarser and L^2 = 10 companions of the models page.
+for c in couette fene-p fene-cr lptt eptt; do
+  $R run cases/$c.toml --no-snapshots --no-charts --out plots/models/$c
+done
+$R run cases/fene-p.toml --no-snapshots --no-charts --set scene.resolution=15 --out plots/models/fene-p-15
+$R run cases/fene-p.toml --no-snapshots --no-charts --set fluid.l2=10 --out plots/models/fene-p-l2-10
+$R run cases/lptt.toml --no-snapshots --no-charts --set scene.resolution=15 --out plots/models/lptt-15
+$R run cases/eptt.toml --no-snapshots --no-charts --set scene.resolution=15 --out plots/models/eptt-15
+fi
+
+# The validation pages' tables from what ran (the changed numbers are listed).
+$R gallery

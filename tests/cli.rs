@@ -508,3 +508,17 @@ fn the_key_reference_pages_are_what_the_code_generates() {
         );
     }
 }
+
+/// Every table of the validation pages marked `<!-- generated: ... -->` holds the numbers its
+/// committed run outputs under `plots/` give (`rheosph gallery` regenerates them): a number
+/// typed by hand into such a table, or a rerun whose page was not regenerated, fails here.
+#[test]
+fn the_validation_pages_generated_tables_match_their_runs() {
+    let o = rheosph(&["gallery", "--check"]);
+    assert!(
+        o.status.success(),
+        "committed numbers contradict their runs (rheosph gallery rewrites them):\n{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    );
+}

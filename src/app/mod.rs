@@ -5,6 +5,7 @@ pub mod bench;
 pub mod bench_solvers;
 pub mod cli;
 pub mod compare;
+pub mod gallery;
 pub mod io;
 pub mod keys;
 pub mod plot;

@@ -4,7 +4,9 @@
 use crate::engine::free_surface::tension::capillary_limit;
 use crate::engine::kernel::H_OVER_DR;
 use crate::engine::scheme::Method;
-use crate::engine::viscosity::{advective_limit, elastic_limit, viscous_limit, DtInputs};
+use crate::engine::viscosity::{
+    advective_limit, elastic_limit, viscous_limit, DtInputs, Viscosity,
+};
 use crate::engine::weakly_compressible::ACOUSTIC_COURANT;
 use crate::setup::scenes::BYTES_PER_PARTICLE;
 use crate::setup::validate::Case;
@@ -40,6 +42,8 @@ pub struct Derived {
     pub estimated_steps: f64,
     /// Particles × the measured heap per particle (`rheosph bench`).
     pub estimated_memory_bytes: f64,
+    /// `scheme.viscosity` as it runs, `auto` resolved.
+    pub viscosity: Viscosity,
 }
 
 impl Case {
@@ -92,6 +96,7 @@ impl Case {
             dt_acoustic,
             estimated_steps: self.end_time / (factor * limit),
             estimated_memory_bytes: c.particles() as f64 * BYTES_PER_PARTICLE,
+            viscosity: self.scheme.viscosity,
         }
     }
 }

@@ -59,6 +59,16 @@ pub enum Command {
         #[arg(long, value_enum, default_value = "scheme")]
         page: KeyPage,
     },
+    /// Regenerate the validation pages' marked tables from the run outputs under `plots/`
+    /// and list every committed number that changed (run from the repository's root).
+    Gallery {
+        /// Write nothing; exit with an error if a committed number contradicts its source.
+        #[arg(long)]
+        check: bool,
+        /// The directory of the pages.
+        #[arg(long, default_value = "docs/src/validation")]
+        pages: PathBuf,
+    },
 }
 
 /// Exit code of a command that did what it was asked.
@@ -173,6 +183,18 @@ fn dispatch(cli: Cli) -> anyhow::Result<u8> {
             };
             print!("{text}");
             Ok(EXIT_FINISHED)
+        }
+        Command::Gallery { check, pages } => {
+            let found = crate::app::gallery::regenerate(std::path::Path::new("."), &pages, check)?;
+            for c in &found {
+                println!("{c}");
+            }
+            match (check, found.len()) {
+                (true, n) if n > 0 => {
+                    anyhow::bail!("{n} committed numbers contradict their sources (above)")
+                }
+                _ => Ok(EXIT_FINISHED),
+            }
         }
         Command::Check(args) => {
             let case = case::load(&args.case, &args.set)?;

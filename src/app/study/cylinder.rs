@@ -19,7 +19,7 @@ pub struct Row {
     #[serde(serialize_with = "fmt::plain")]
     pub wi: f64,
     /// R/δr.
-    #[serde(serialize_with = "fmt::fixed4")]
+    #[serde(default = "table::nan", serialize_with = "fmt::fixed4")]
     pub radius_over_dr: f64,
     pub outcome: String,
     #[serde(serialize_with = "fmt::sci6")]
@@ -32,7 +32,7 @@ pub struct Row {
     /// polymer parts.
     #[serde(serialize_with = "fmt::sci8")]
     pub drag_k: f64,
-    #[serde(serialize_with = "fmt::sci8")]
+    #[serde(default = "table::nan", serialize_with = "fmt::sci8")]
     pub drag_k_surface: f64,
     #[serde(serialize_with = "fmt::sci6")]
     pub k_pressure: f64,
@@ -45,7 +45,7 @@ pub struct Row {
     /// Smallest det A over the averaging window, and over every output of the run.
     #[serde(serialize_with = "fmt::sci6")]
     pub min_det_a: f64,
-    #[serde(serialize_with = "fmt::sci6")]
+    #[serde(default = "table::nan", serialize_with = "fmt::sci6")]
     pub min_det_a_run: f64,
     pub particles: usize,
     pub steps: u64,

@@ -33,9 +33,9 @@ pub struct Point {
     /// The largest ratio of this run's L2 error to the first variant's at the same
     /// resolution, over the outputs (t > 0) within both runs, and the time it occurs (NaN:
     /// no common output).
-    #[serde(serialize_with = "fmt::fixed4")]
+    #[serde(default = "table::nan", serialize_with = "fmt::fixed4")]
     pub max_output_ratio: f64,
-    #[serde(serialize_with = "fmt::fixed4")]
+    #[serde(default = "table::nan", serialize_with = "fmt::fixed4")]
     pub ratio_at: f64,
 }
 
