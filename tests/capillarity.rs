@@ -169,7 +169,7 @@ fn cohesion_drop_holds_the_cohesive_and_laplace_pressure() {
     assert_eq!(s.outcome, Outcome::Finished, "{:?}", s.reason);
     let support = rheosph::engine::kernel::QuinticSpline::for_spacing(0.05).support();
     let none: &[rheosph::engine::boundary::Shape] = &[];
-    let k = rheosph::engine::free_surface::Cohesion::new((1.0, 1.0), 0.05, support, (none, None))
+    let k = rheosph::engine::free_surface::Cohesion::new(1.0, 1.0, 0.05, support, none, None)
         .flat_pressure;
     assert!((k - 15.92).abs() < 0.01, "K {k}");
     let d = summary_section(dir.path(), "drop");

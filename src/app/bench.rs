@@ -9,6 +9,7 @@
 use crate::analysis::analytic::steady_channel::steady_shear_conformation;
 use crate::engine::boundary::Ghosts;
 use crate::engine::math::{Mat2, Sym2, Vec2};
+use crate::engine::neighbourhood::Hood;
 use crate::engine::neighbours::{NeighbourList, NeighbourSearch};
 use crate::engine::operators::{DivergenceForm, KernelSums};
 use crate::engine::pressure::PressureSystem;
@@ -227,7 +228,15 @@ pub fn bench_size(target_particles: usize, steps: usize, lu_max: usize) -> Resul
 
     let mut ppe = PressureSystem::new();
     let (ppe_assembly_ms, _) = time_ms(repeats, || {
-        ppe.assemble_matrix(&list, &sums, &ghosts, case.fluid.density, &[])
+        ppe.assemble_matrix(
+            Hood {
+                list: &list,
+                sums: &sums,
+                ghosts: &ghosts,
+            },
+            case.fluid.density,
+            &[],
+        )
     });
 
     // The PPE solvers inside real steps of the same developed state.

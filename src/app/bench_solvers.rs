@@ -15,6 +15,7 @@ use crate::app::bench::{case_at, developed, time_ms};
 use crate::app::table::{self, fmt};
 use crate::engine::boundary::Ghosts;
 use crate::engine::math::Vec2;
+use crate::engine::neighbourhood::Hood;
 use crate::engine::neighbours::{NeighbourList, NeighbourSearch};
 use crate::engine::operators::KernelSums;
 use crate::engine::pressure::PressureSystem;
@@ -112,7 +113,15 @@ fn ppe_system(target: usize) -> Result<(CsMat<f64>, Vec<f64>)> {
     let mut divergence = vec![0.0; n];
     sums.divergence(&list, &u_ext, &mut divergence);
     let mut ppe = PressureSystem::new();
-    ppe.assemble_matrix(&list, &sums, &ghosts, case.fluid.density, &[]);
+    ppe.assemble_matrix(
+        Hood {
+            list: &list,
+            sums: &sums,
+            ghosts: &ghosts,
+        },
+        case.fluid.density,
+        &[],
+    );
     ppe.assemble_rhs(&divergence, 1e-3, &[], &[]);
     Ok(ppe.system())
 }

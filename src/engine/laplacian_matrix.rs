@@ -17,7 +17,7 @@
 use crate::engine::boundary::{Field, Ghosts};
 use crate::engine::neighbourhood::Hood;
 use crate::engine::neighbours::{NeighbourList, RowWriter};
-use crate::engine::operators::{pair_viscosity, KernelSums};
+use crate::engine::operators::pair_viscosity;
 use rayon::prelude::*;
 use rheosph_solver::{SolveError, SolveReport, Solver, SolverOptions};
 use sprs::CsMat;
@@ -68,24 +68,12 @@ impl LaplacianMatrix {
         }
     }
 
-    /// Assembles `d I + c L` with mirrors of `field` folded into their parents' columns; rows
-    /// flagged in `identity_rows`
-    /// (empty: none) are replaced by identity rows, the Dirichlet rows of free-surface
-    /// particles. A non-empty `factor` (fluid then ghosts) weights each pair by the harmonic
-    /// mean of its values, the variable viscosity of
-    /// [`KernelSums::variable_laplacian_vector`].
-    #[allow(clippy::too_many_arguments)]
-    pub fn assemble(
-        &mut self,
-        list: &NeighbourList,
-        sums: &KernelSums,
-        ghosts: &Ghosts,
-        field: Field,
-        d: f64,
-        c: f64,
-        identity_rows: &[bool],
-        factor: &[f64],
-    ) {
+    /// Assembles the operator `op` with mirrors of its field folded into their parents'
+    /// columns; rows flagged in `identity_rows` (empty: none) are replaced by identity rows,
+    /// the Dirichlet rows of free-surface particles.
+    pub fn assemble(&mut self, hood: Hood, op: Operator, identity_rows: &[bool]) {
+        let Hood { list, ghosts, .. } = hood;
+        let field = op.field;
         let n = list.rows();
         // Each row is written into a slot of the CSR arrays sized by its neighbour count plus
         // the diagonal, sorted and merged there, then the rows are shifted down in place.
@@ -111,16 +99,7 @@ impl LaplacianMatrix {
                     vals[0] = 1.0;
                     1
                 } else {
-                    let coefficients = (d, c, factor);
-                    assemble_row(
-                        i,
-                        n,
-                        Hood { list, sums, ghosts },
-                        field,
-                        coefficients,
-                        cols,
-                        vals,
-                    )
+                    assemble_row(i, n, hood, op, cols, vals)
                 };
             });
 
@@ -223,18 +202,34 @@ impl LaplacianMatrix {
     }
 }
 
-/// Writes row i of `d I + c L` into its slot (diagonal first, then one entry per neighbour
+/// The matrix `d I + c L` of `field`; a non-empty `factor` (fluid then ghosts) weights each
+/// pair by the harmonic mean of its values, the variable viscosity of
+/// [`KernelSums::variable_laplacian_vector`].
+#[derive(Clone, Copy)]
+pub struct Operator<'a> {
+    pub field: Field,
+    pub d: f64,
+    pub c: f64,
+    pub factor: &'a [f64],
+}
+
+/// Writes row i of `op` into its slot (diagonal first, then one entry per neighbour
 /// column), sorts it by column, merges duplicates, and returns the number of entries kept.
 fn assemble_row(
     i: usize,
     n_fluid: usize,
     hood: Hood,
-    field: Field,
-    (d, c, factor): (f64, f64, &[f64]),
+    op: Operator,
     cols: &mut [usize],
     vals: &mut [f64],
 ) -> usize {
     let Hood { list, sums, ghosts } = hood;
+    let Operator {
+        field,
+        d,
+        c,
+        factor,
+    } = op;
     let mut len = 1;
     let mut diagonal = d;
     for k in list.range(i) {
@@ -400,7 +395,18 @@ mod tests {
             (Field::Velocity, 1.0, -0.01, &factor[..]),
         ] {
             let mut m = LaplacianMatrix::default();
-            m.assemble(&list, &sums, &ghosts, kind, d, c, &[], phi);
+            let hood = Hood {
+                list: &list,
+                sums: &sums,
+                ghosts: &ghosts,
+            };
+            let op = Operator {
+                field: kind,
+                d,
+                c,
+                factor: phi,
+            };
+            m.assemble(hood, op, &[]);
             let a = CsMat::new((n, n), m.indptr.clone(), m.indices.clone(), m.data.clone());
             let mut ax = vec![0.0; n];
             rheosph_solver::vector::spmv(&a, &field, &mut ax);
@@ -441,7 +447,18 @@ mod tests {
         } = fixture::walled_lattice(8);
         let assemble = || {
             let mut m = LaplacianMatrix::default();
-            m.assemble(&list, &sums, &ghosts, Field::Pressure, 0.0, -1.0, &[], &[]);
+            let hood = Hood {
+                list: &list,
+                sums: &sums,
+                ghosts: &ghosts,
+            };
+            let op = Operator {
+                field: Field::Pressure,
+                d: 0.0,
+                c: -1.0,
+                factor: &[],
+            };
+            m.assemble(hood, op, &[]);
             m
         };
         let plain = assemble();

@@ -279,7 +279,7 @@ impl Neighbourhood {
             self.volumes[n + g] *= self.local[parent as usize].volume / dv;
         }
         self.sums
-            .update_graded(&self.list, (kernel, &self.row_spacing), dv, &self.volumes);
+            .update_graded(&self.list, kernel, &self.row_spacing, dv, &self.volumes);
         self.prepare_continuation(n, support);
     }
 

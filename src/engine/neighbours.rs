@@ -323,6 +323,14 @@ impl Grid {
     }
 }
 
+/// The separations a search keeps: min_distance² < r² < support² (min_distance² < 0: every
+/// pair within the support, the points themselves aside).
+#[derive(Clone, Copy)]
+struct Band {
+    support: f64,
+    min_distance2: f64,
+}
+
 impl NeighbourSearch {
     /// Heap bytes held.
     pub fn heap_bytes(&self) -> usize {
@@ -350,7 +358,11 @@ impl NeighbourSearch {
         out: &mut NeighbourList,
     ) {
         let min_distance2 = (COINCIDENT * support).powi(2);
-        self.build_within(domain, points, n_rows, (support, min_distance2), true, out);
+        let band = Band {
+            support,
+            min_distance2,
+        };
+        self.build_within(domain, points, n_rows, band, true, out);
     }
 
     /// Candidate lists for a Verlet skin: every point within `radius` (coincident ones
@@ -365,7 +377,11 @@ impl NeighbourSearch {
         out: &mut NeighbourList,
     ) {
         // A negative squared distance: no pair is skipped.
-        self.build_within(domain, points, n_rows, (radius, -1.0), false, out);
+        let band = Band {
+            support: radius,
+            min_distance2: -1.0,
+        };
+        self.build_within(domain, points, n_rows, band, false, out);
         let offsets = &out.offsets;
         let index = RowWriter::new(&mut out.index);
         (0..n_rows).into_par_iter().for_each(|i| {
@@ -410,20 +426,18 @@ impl NeighbourSearch {
         domain: &Domain,
         points: &[Vec2],
         n_rows: usize,
-        (support, min_distance2): (f64, f64),
+        band: Band,
         separations: bool,
         out: &mut NeighbourList,
     ) {
-        let grid = Grid::new(domain, points, support);
+        let grid = Grid::new(domain, points, band.support);
         self.bin(&grid, points);
-        let support2 = support * support;
         // One pass into [`RowBlocks`] (a count pass before a fill pass measured every
         // distance twice).
         let mut rows = std::mem::take(&mut self.rows);
         let this = &*self;
-        let within = (support2, min_distance2);
         rows.gather(n_rows, separations, out, |i, idx, rij| {
-            this.visit(&grid, (domain, points), i, within, |j, d| {
+            this.visit(&grid, domain, points, i, band, |j, d| {
                 idx.push(j);
                 if separations {
                     rij.push(d);
@@ -434,16 +448,19 @@ impl NeighbourSearch {
     }
 
     /// Calls `f(j, r_ij)` for every point j ≠ i of the cells adjacent to i's with
-    /// `min_distance2 < r_ij² < support2`, in cell order.
+    /// r_ij in `band`, in cell order.
     #[inline]
     fn visit(
         &self,
         grid: &Grid,
-        (domain, points): (&Domain, &[Vec2]),
+        domain: &Domain,
+        points: &[Vec2],
         i: usize,
-        (support2, min_distance2): (f64, f64),
+        band: Band,
         mut f: impl FnMut(u32, Vec2),
     ) {
+        let support2 = band.support * band.support;
+        let min_distance2 = band.min_distance2;
         let pi = points[i];
         let c = self.point_cell[i] as usize;
         let (cx, cy) = (c / grid.n[1], c % grid.n[1]);

@@ -175,7 +175,7 @@ impl KernelSums {
         dv: f64,
         volumes: &[f64],
     ) {
-        self.update_graded(list, (kernel, &[]), dv, volumes);
+        self.update_graded(list, kernel, &[], dv, volumes);
     }
 
     /// As [`Self::update_with_volumes`], row i with the kernel of spacing `rows[i]` (graded
@@ -183,7 +183,8 @@ impl KernelSums {
     pub fn update_graded(
         &mut self,
         list: &NeighbourList,
-        (kernel, rows): (&QuinticSpline, &[f64]),
+        kernel: &QuinticSpline,
+        rows: &[f64],
         dv: f64,
         volumes: &[f64],
     ) {
@@ -260,7 +261,7 @@ impl KernelSums {
                     for ((w, g), r) in lap.iter_mut().zip(grad_hat.iter()).zip(rij) {
                         *w = morris_weight(r, g, dv);
                     }
-                    second_order_row((grad_hat, lap), factor, rij, (h, dv), second);
+                    second_order_row(grad_hat, lap, factor, rij, h, dv, second);
                 }
                 if linear_exact {
                     // SAFETY: as above, row i only.
@@ -496,10 +497,12 @@ struct Second {
 /// matrix, so this is eq. (22) carried one order further (Nasar et al. 2021). `factor` holds
 /// F times the volume ratio. A particle whose M is too ill-conditioned keeps its weights.
 fn second_order_row(
-    (grad, laplacian): (&mut [Vec2], &mut [f64]),
+    grad: &mut [Vec2],
+    laplacian: &mut [f64],
     factor: &[f64],
     rij: &[Vec2],
-    (h, dv): (f64, f64),
+    h: f64,
+    dv: f64,
     which: Second,
 ) {
     type M5 = nalgebra::SMatrix<f64, 5, 5>;

@@ -15,13 +15,11 @@
 //! ([`SurfaceRows::blended`]).
 
 use crate::engine::boundary::Field;
-use crate::engine::boundary::Ghosts;
 use crate::engine::frame::Frame;
-use crate::engine::laplacian_matrix::LaplacianMatrix;
+use crate::engine::laplacian_matrix::{LaplacianMatrix, Operator};
 use crate::engine::math::Vec2;
 use crate::engine::neighbourhood::Hood;
-use crate::engine::neighbours::NeighbourList;
-use crate::engine::operators::{KernelSums, PpeLaplacian};
+use crate::engine::operators::PpeLaplacian;
 use crate::engine::settings::{in_range, positive, Invalid};
 use crate::engine::state::Scales;
 use crate::engine::volume::{RowSupport, VolumeRelaxation};
@@ -87,24 +85,14 @@ impl PressureSystem {
 
     /// Assembles the matrix `−∇²/ρ` for the fluid particles, with identity (Dirichlet) rows
     /// for the particles flagged in `surface` (empty: none).
-    pub fn assemble_matrix(
-        &mut self,
-        list: &NeighbourList,
-        sums: &KernelSums,
-        ghosts: &Ghosts,
-        density: f64,
-        surface: &[bool],
-    ) {
-        self.matrix.assemble(
-            list,
-            sums,
-            ghosts,
-            Field::Pressure,
-            0.0,
-            -1.0 / density,
-            surface,
-            &[],
-        );
+    pub fn assemble_matrix(&mut self, hood: Hood, density: f64, surface: &[bool]) {
+        let op = Operator {
+            field: Field::Pressure,
+            d: 0.0,
+            c: -1.0 / density,
+            factor: &[],
+        };
+        self.matrix.assemble(hood, op, surface);
     }
 
     /// After [`Self::assemble_matrix`], which gave the `blended` rows Poisson rows: each
@@ -244,7 +232,7 @@ impl PressureStage {
         }
         if self.matrix_stale {
             let system = &mut self.system;
-            system.assemble_matrix(hood.list, hood.sums, hood.ghosts, density, rows.dirichlet);
+            system.assemble_matrix(hood, density, rows.dirichlet);
             system.blend_matrix_rows(rows.blended);
         }
         let system = &mut self.system;

@@ -65,11 +65,12 @@ impl ProjectionStage {
         &mut self,
         hood: Hood,
         pressure: &[f64],
-        (density, dt): (f64, f64),
+        density: f64,
+        dt: f64,
         divergence: &mut [f64],
     ) {
         if let Some(stabilisation) = self.stabilisation.as_mut() {
-            stabilisation.add(hood, pressure, (density, dt), divergence);
+            stabilisation.add(hood, pressure, density, dt, divergence);
         }
     }
 

@@ -88,7 +88,8 @@ impl PressureStabilisation {
         &mut self,
         hood: Hood,
         pressure: &[f64],
-        (density, dt): (f64, f64),
+        density: f64,
+        dt: f64,
         divergence: &mut [f64],
     ) {
         let Hood { list, sums, .. } = hood;
@@ -192,12 +193,7 @@ mod tests {
         let mut stab = PressureStabilisation::new(1.0, 1.0, 0.13);
         let linear: Vec<f64> = points.iter().map(|r| 5.0 * r.x + r.y).collect();
         let mut d = vec![0.0; n];
-        stab.add(
-            Hood::without_walls(&list, &sums),
-            &linear,
-            (1.0, 1.0),
-            &mut d,
-        );
+        stab.add(Hood::without_walls(&list, &sums), &linear, 1.0, 1.0, &mut d);
         assert!(d.iter().all(|x| x.abs() < 1e-9), "{:?}", &d[..4]);
         let board: Vec<f64> = (0..n)
             .map(|k| {
@@ -209,12 +205,7 @@ mod tests {
             })
             .collect();
         let mut d = vec![0.0; n];
-        stab.add(
-            Hood::without_walls(&list, &sums),
-            &board,
-            (1.0, 1.0),
-            &mut d,
-        );
+        stab.add(Hood::without_walls(&list, &sums), &board, 1.0, 1.0, &mut d);
         // The middle particle, in full support: the defect equals the PPE's row times p.
         let i = 8 * 16 + 8;
         let row: f64 = list

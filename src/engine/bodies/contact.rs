@@ -82,8 +82,10 @@ impl Lubrication {
     /// correction f that acts.
     fn relax(
         &self,
-        (w, w_old): (f64, f64),
-        (sq, mobility): (&Squeeze, f64),
+        w: f64,
+        w_old: f64,
+        sq: &Squeeze,
+        mobility: f64,
         reduced_radius: f64,
         gap: f64,
     ) -> (f64, f64) {
@@ -202,7 +204,7 @@ impl Contact {
                 let reduced = ra * rb / (ra + rb);
                 let w = (a.velocity - b.velocity).dot(&e);
                 let w_old = (sq.previous[k] - sq.previous[m]).dot(&e);
-                let (f, w_new) = lub.relax((w, w_old), (sq, mobility), reduced, gap);
+                let (f, w_new) = lub.relax(w, w_old, sq, mobility, reduced, gap);
                 let dw = (w_new - w) * e;
                 discs[k].velocity += dw * (sq.mobility[k] / mobility);
                 discs[m].velocity -= dw * (sq.mobility[m] / mobility);
@@ -217,8 +219,8 @@ impl Contact {
                 }
                 let w = disc.velocity.dot(&normal);
                 let w_old = sq.previous[k].dot(&normal);
-                let pair = (sq, sq.mobility[k]);
-                let (f, w_new) = lub.relax((w, w_old), pair, disc.circle.radius, gap);
+                let mobility = sq.mobility[k];
+                let (f, w_new) = lub.relax(w, w_old, sq, mobility, disc.circle.radius, gap);
                 disc.velocity += (w_new - w) * normal;
                 out[k] -= f * w_new * normal;
             }

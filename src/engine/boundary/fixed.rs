@@ -82,7 +82,7 @@ impl Lattice<'_> {
             let s = origin + (k as f64 + 0.5) * dr;
             for m in 0..rows {
                 let d = (m as f64 + 0.5) * dr;
-                if let Some(parent) = nearest(near, (s, d), dr, period) {
+                if let Some(parent) = nearest(near, s, d, dr, period) {
                     let mut position = Vec2::zeros();
                     position[t] = s;
                     position[plane.axis] = plane.position - plane.fluid_side * d;
@@ -154,12 +154,7 @@ impl Rings<'_> {
 
 /// The particle of `near` (sorted by s) nearest (s, d) within `radius`, seen across a
 /// periodic tangential axis of length `period`.
-fn nearest(
-    near: &[NearParticle],
-    (s, d): (f64, f64),
-    radius: f64,
-    period: Option<f64>,
-) -> Option<u32> {
+fn nearest(near: &[NearParticle], s: f64, d: f64, radius: f64, period: Option<f64>) -> Option<u32> {
     let mut best: Option<(f64, u32)> = None;
     let (shifts, count) = match period {
         Some(l) => ([0.0, -l, l], 3),
@@ -181,7 +176,9 @@ fn nearest(
 /// Appends the fixed ghosts of one wall of `shape` (module docs) to `out`.
 pub fn ghosts_of(
     shape: &Shape,
-    (spacing, reach, domain): (f64, f64, Option<&Domain>),
+    spacing: f64,
+    reach: f64,
+    domain: Option<&Domain>,
     points: &[Vec2],
     near: &mut Vec<NearParticle>,
     out: &mut Vec<FixedGhost>,
@@ -293,7 +290,7 @@ mod tests {
     #[test]
     fn nearest_looks_across_a_periodic_seam() {
         let near = vec![(0.01, 0.05, 7u32), (0.5, 0.05, 8)];
-        assert_eq!(nearest(&near, (0.99, 0.05), 0.1, Some(1.0)), Some(7));
-        assert_eq!(nearest(&near, (0.99, 0.05), 0.1, None), None);
+        assert_eq!(nearest(&near, 0.99, 0.05, 0.1, Some(1.0)), Some(7));
+        assert_eq!(nearest(&near, 0.99, 0.05, 0.1, None), None);
     }
 }

@@ -364,10 +364,11 @@ impl Ghosts {
         let mut found = std::mem::take(&mut self.lattice_ghosts);
         for (w, wall) in self.walls.iter().enumerate() {
             found.clear();
-            let lattice = (spacing, reach, self.domain.as_ref());
             fixed::ghosts_of(
                 &wall.shape,
-                lattice,
+                spacing,
+                reach,
+                self.domain.as_ref(),
                 &points[..n_fluid],
                 &mut near,
                 &mut found,

@@ -77,20 +77,21 @@ pub struct Cohesion {
 
 impl Cohesion {
     /// The cohesion of a fluid of density ρ and surface tension σ on particles spaced δr
-    /// with kernel support r_c; with `contact_angle` θ, the flat faces of `walls` attract it
+    /// with kernel support r_c; with `contact_angle` θ, the flat faces of `shapes` attract it
     /// with S_w = S(1 + cos θ)/2.
     pub fn new(
-        (surface_tension, density): (f64, f64),
+        surface_tension: f64,
+        density: f64,
         spacing: f64,
         support: f64,
-        walls: (&[Shape], Option<f64>),
+        shapes: &[Shape],
+        contact_angle: Option<f64>,
     ) -> Self {
         let bump = QuinticSpline::new(support / 6.0);
         let centre = 1.5 * support;
         let b = |r: f64| bump.value((r - centre).abs());
         let moment = |k: i32| simpson(|r| r.powi(k) * b(r), support, 2.0 * support);
         let strength = 3.0 * surface_tension / moment(3);
-        let (shapes, contact_angle) = walls;
         let (walls, wall_pull) = match contact_angle {
             Some(theta) => {
                 let pull = 0.5 * strength * (1.0 + theta.cos()) / density;
@@ -98,7 +99,7 @@ impl Cohesion {
                 let table = (0..=WALL_TABLE)
                     .map(|k| {
                         let d = reach * k as f64 / WALL_TABLE as f64;
-                        pull * half_plane_pull(&b, (support, reach), d)
+                        pull * half_plane_pull(&b, support, reach, d)
                     })
                     .collect();
                 let flat = shapes
@@ -199,7 +200,7 @@ fn lookup(table: &[f64], d: f64, reach: f64) -> f64 {
 /// g(d) = ∫_{y>d} b(r) y/r dA for b vanishing outside [inner, outer]: on the circle of
 /// radius r the arc beyond the line y = d, weighted by y/r = sin φ, has
 /// ∫ sin φ r dφ = 2√(r² − d²), so g(d) = ∫_{max(d, inner)}^{outer} b(r) 2√(r² − d²) dr.
-fn half_plane_pull(b: &impl Fn(f64) -> f64, (inner, outer): (f64, f64), d: f64) -> f64 {
+fn half_plane_pull(b: &impl Fn(f64) -> f64, inner: f64, outer: f64, d: f64) -> f64 {
     let from = d.max(inner);
     if from >= outer {
         return 0.0;
@@ -234,7 +235,7 @@ mod tests {
     fn a_flat_surface_is_pulled_in_with_the_cohesive_pressure() {
         let (dr, sigma) = (0.05, 1.0);
         let support = QuinticSpline::for_spacing(dr).support();
-        let mut c = Cohesion::new((sigma, 1.0), dr, support, (&[], None));
+        let mut c = Cohesion::new(sigma, 1.0, dr, support, &[], None);
         let (nx, ny) = (40, 40);
         let domain = Domain {
             min: Vec2::new(0.0, -(ny as f64) * dr - 1.0),
@@ -265,7 +266,7 @@ mod tests {
         let (dr, sigma) = (0.05, 1.0);
         let support = QuinticSpline::for_spacing(dr).support();
         let wall = Shape::Plane(Plane::floor());
-        let c = Cohesion::new((sigma, 1.0), dr, support, (&[wall], Some(0.0)));
+        let c = Cohesion::new(sigma, 1.0, dr, support, &[wall], Some(0.0));
         let contact = lookup(&c.wall_pull, 0.0, c.reach);
         for d in [0.5 * dr, 1.5 * dr, 3.5 * dr, 6.5 * dr] {
             let p = Vec2::new(0.0, d);

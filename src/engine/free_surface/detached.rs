@@ -119,7 +119,8 @@ impl DetachedBodies {
     pub fn conserve(
         &mut self,
         inputs: &BodyInputs,
-        (old, new): (&[Vec2], &mut [Vec2]),
+        old: &[Vec2],
+        new: &mut [Vec2],
         g: Vec2,
         dt: f64,
     ) -> usize {
@@ -254,7 +255,7 @@ mod tests {
             .collect();
         let anchored: Vec<Vec2> = new[4..].to_vec();
         let mut bodies = DetachedBodies::default();
-        assert_eq!(bodies.conserve(&inputs, (&old, &mut new), g, dt), 1);
+        assert_eq!(bodies.conserve(&inputs, &old, &mut new, g, dt), 1);
         for (i, p) in points[..4].iter().enumerate() {
             let kept = old[i] + g * dt + squeeze(p);
             assert!(

@@ -323,12 +323,13 @@ impl FreeSurfaceStage {
         &mut self,
         hood: Hood,
         grad_u: &[crate::engine::math::Mat2],
-        viscosity: (f64, &[f64]),
+        nu: f64,
+        factor: &[f64],
     ) -> Option<&[Vec2]> {
         let surface = &self.surface;
         self.shear_free
             .as_mut()
-            .map(|s| s.accelerations(hood, surface, grad_u, viscosity))
+            .map(|s| s.accelerations(hood, surface, grad_u, nu, factor))
     }
 
     /// Step 2: detection (36)–(37) and normals (38)–(39), at the positions `points` (fluid
@@ -385,9 +386,12 @@ impl FreeSurfaceStage {
                 !prescribed.get(i).copied().unwrap_or(false)
                     && list.range(i).len() >= pressure::MIN_SURFACE_NEIGHBOURS
             };
-            let at = (list, d.points);
-            let motion = (d.velocity, d.ahead);
-            tension.add_jump(at, motion, &self.surface, trusted, &mut self.dirichlet);
+            let motion = tension::Motion {
+                points: d.points,
+                velocity: d.velocity,
+                ahead: d.ahead,
+            };
+            tension.add_jump(list, motion, &self.surface, trusted, &mut self.dirichlet);
         }
     }
 

@@ -66,7 +66,8 @@ impl ShearFreeSurface {
         hood: Hood,
         surface: &FreeSurface,
         grad_u: &[Mat2],
-        (nu, factor): (f64, &[f64]),
+        nu: f64,
+        factor: &[f64],
     ) -> &[Vec2] {
         let list = hood.list;
         self.acceleration.resize(list.rows(), Vec2::zeros());
@@ -131,7 +132,7 @@ mod tests {
             let g = vec![Mat2::new(0.0, a, b, 0.0); n];
             let mut stage = ShearFreeSurface::default();
             stage
-                .accelerations(Hood::without_walls(&list, &sums), &fs, &g, (1.0, &[]))
+                .accelerations(Hood::without_walls(&list, &sums), &fs, &g, 1.0, &[])
                 .to_vec()
         };
         let sheared = flux(3.0, 0.0);

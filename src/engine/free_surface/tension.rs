@@ -47,6 +47,16 @@ use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+/// Where the rows of the curvature are and how they move: the positions r* (fluid first; for
+/// the contact lines), the velocities uⁿ and the time by which r* lies ahead of rⁿ (0 for
+/// fixed particles), for the curvature's time level.
+#[derive(Clone, Copy)]
+pub struct Motion<'a> {
+    pub points: &'a [Vec2],
+    pub velocity: &'a [Vec2],
+    pub ahead: f64,
+}
+
 /// `[scheme.surface_tension]`: how a surface tension acts and where in the step its
 /// curvature is taken.
 #[derive(
@@ -137,18 +147,22 @@ impl SurfaceTension {
     }
 
     /// Adds σκ_i to `pressure` on the rows `apply` selects (FS particles whose Dirichlet value
-    /// is trusted); `points` are the fluid positions r* (for the contact lines), `motion`
-    /// the velocities uⁿ and the step by which r* lies ahead of rⁿ (0 for fixed particles).
+    /// is trusted), `list` the neighbours at the positions of `motion`.
     pub fn add_jump(
         &mut self,
-        (list, points): (&NeighbourList, &[Vec2]),
-        motion: (&[Vec2], f64),
+        list: &NeighbourList,
+        motion: Motion,
         surface: &FreeSurface,
         apply: impl Fn(usize) -> bool + Sync,
         pressure: &mut [f64],
     ) {
         let n = list.rows();
-        self.set_time_level(&points[..n], motion);
+        let Motion {
+            points,
+            velocity,
+            ahead,
+        } = motion;
+        self.set_time_level(&points[..n], velocity, ahead);
         if let Some(wetting) = self.wetting.as_mut() {
             let at_level = if self.lag.is_empty() {
                 &points[..n]
@@ -167,7 +181,7 @@ impl SurfaceTension {
     }
 
     /// The lag of the time level of κ behind r* (module docs), and the positions there.
-    fn set_time_level(&mut self, points: &[Vec2], (velocity, ahead): (&[Vec2], f64)) {
+    fn set_time_level(&mut self, points: &[Vec2], velocity: &[Vec2], ahead: f64) {
         self.lag.clear();
         self.lagged.clear();
         if self.level == CapillaryTimeLevel::Predicted || ahead == 0.0 {
@@ -468,7 +482,12 @@ mod tests {
         let mean_kappa = |level, velocity: &[Vec2]| {
             let mut tension = SurfaceTension::new(1.0, dr, level);
             let mut p = vec![0.0; n];
-            tension.add_jump((&list, &points), (velocity, dt), &fs, |_| true, &mut p);
+            let motion = Motion {
+                points: &points,
+                velocity,
+                ahead: dt,
+            };
+            tension.add_jump(&list, motion, &fs, |_| true, &mut p);
             let rows: Vec<usize> = (0..n).filter(|&i| fs.on_surface[i]).collect();
             rows.iter().map(|&i| p[i]).sum::<f64>() / rows.len() as f64
         };

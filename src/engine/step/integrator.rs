@@ -141,7 +141,7 @@ impl ProjectionMethod {
         c.timers.time(Stage::PpeAssembly, || {
             pressure.divergence(hood, c.velocity_star);
             let divergence = pressure.divergence_mut();
-            projection.stabilise(hood, &s.pressure, (fluid.density, dt), divergence);
+            projection.stabilise(hood, &s.pressure, fluid.density, dt, divergence);
             let dirichlet = free_surface.as_mut().map(|fs| {
                 fs.dirichlet_pressure(&DirichletInputs {
                     hood,
@@ -206,12 +206,7 @@ impl ProjectionMethod {
                     buffer,
                     domain,
                 };
-                bodies.conserve(
-                    &inputs,
-                    (&s.velocity[..], &mut u_star[..]),
-                    s.body_force,
-                    dt,
-                );
+                bodies.conserve(&inputs, &s.velocity[..], &mut u_star[..], s.body_force, dt);
             }
         });
     }
@@ -298,7 +293,7 @@ impl Integrator for WeakMethod {
         let shift = c.shifting.then_some(&s.shift_velocity[..]);
         let (stage, kernel, u_star, dt) = (&mut self.stage, c.kernel, &*c.velocity_star, c.dt);
         c.timers.time(Stage::Projection, || {
-            stage.continuity(hood, kernel, (u_star, shift), &mut s.pressure, dt)
+            stage.continuity(hood, kernel, u_star, shift, &mut s.pressure, dt)
         });
         Ok(None)
     }

@@ -53,7 +53,7 @@ use crate::engine::shifting::{ShiftInputs, ShiftRule, Shifting};
 use crate::engine::stabilisation::PressureStabilisation;
 use crate::engine::timing::{Stage, StageSeconds};
 use crate::engine::viscosity::{
-    elastic_wave_speed, DtInputs, ShearDependentViscosity, ViscousStage,
+    elastic_wave_speed, Diffusion, DtInputs, Prescribed, ShearDependentViscosity, ViscousStage,
 };
 use crate::engine::volume::VolumeRelaxation;
 use crate::engine::weakly_compressible::{MomentumInputs, WeakStage};
@@ -173,12 +173,13 @@ impl Simulation {
         let cohesive = scheme.surface_tension.form == SurfaceTensionForm::Cohesion;
         let cohesion = (cohesive && fluid.surface_tension > 0.0).then(|| {
             let shapes: Vec<_> = walls.iter().map(|w| w.shape).collect();
-            let material = (fluid.surface_tension, fluid.density);
             Cohesion::new(
-                material,
+                fluid.surface_tension,
+                fluid.density,
                 setup.spacing,
                 kernel.support(),
-                (&shapes, setup.contact_angle),
+                &shapes,
+                setup.contact_angle,
             )
         });
         // The contact angle holds at the scene's walls, not at the discs' (added below).
@@ -607,7 +608,7 @@ impl Simulation {
             let grad_u = &st.kinematics.grad_u;
             let surface_force = match (st.cohesion.as_mut(), st.free_surface.as_mut()) {
                 (Some(c), _) => Some(c.accelerations(domain, &st.hood.points[..n])),
-                (None, Some(fs)) => fs.shear_free_accelerations(hood, grad_u, (st.nu, factor)),
+                (None, Some(fs)) => fs.shear_free_accelerations(hood, grad_u, st.nu, factor),
                 (None, None) => None,
             };
             let inputs = MomentumInputs {
@@ -645,10 +646,13 @@ impl Simulation {
             .time(Stage::Viscous, || {
                 st.viscous.solve(
                     st.hood.parts(),
-                    (nu_dt, factor),
+                    Diffusion { nu_dt, factor },
                     &s.velocity,
                     &mut st.velocity_star,
-                    (buffer, prescribed),
+                    Prescribed {
+                        rows: buffer,
+                        value: prescribed,
+                    },
                     preconditioner,
                 )
             })

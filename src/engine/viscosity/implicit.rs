@@ -12,13 +12,26 @@
 //! limit ρh²/η0 of (28): see [`super::Viscosity::dt_limit`].
 
 use crate::engine::boundary::Field;
-use crate::engine::boundary::Ghosts;
-use crate::engine::laplacian_matrix::LaplacianMatrix;
+use crate::engine::laplacian_matrix::{LaplacianMatrix, Operator};
 use crate::engine::math::Vec2;
 use crate::engine::neighbourhood::Hood;
-use crate::engine::neighbours::NeighbourList;
-use crate::engine::operators::KernelSums;
 use rheosph_solver::{NullSpace, Preconditioner, SolveError, SolveReport, SolverOptions, Strategy};
+
+/// δt ν of an implicit viscous solve and the variable viscosity's factor φ (fluid then
+/// ghosts; empty: uniform).
+#[derive(Clone, Copy)]
+pub struct Diffusion<'a> {
+    pub nu_dt: f64,
+    pub factor: &'a [f64],
+}
+
+/// Where an implicit viscous solve stops (the relative residual) and how it is
+/// preconditioned.
+#[derive(Clone, Copy)]
+pub struct Accuracy {
+    pub tolerance: f64,
+    pub preconditioner: Preconditioner,
+}
 
 /// Reusable matrix and component buffers of the implicit viscous solve.
 #[derive(Default)]
@@ -83,39 +96,31 @@ impl ImplicitViscosity {
         self.increment.clear();
     }
 
-    /// Solves for u* given the explicit part `rhs` (overwritten with u*): `nu_dt` = δt ν,
-    /// times `factor` (fluid then ghosts; empty: 1) for a variable viscosity.
-    /// Rows flagged in `prescribed` (empty: none) keep their value (inflow particles).
-    /// `tolerance` is the relative residual; returns the reports of the x and y solves.
-    #[allow(clippy::too_many_arguments)]
+    /// Solves `(I − δt ν φ L) u* = rhs` for u* given the explicit part `rhs` (`velocity`,
+    /// overwritten with u*). Rows flagged in `prescribed` (empty: none) keep their value
+    /// (inflow particles). Returns the reports of the x and y solves.
     pub fn solve(
         &mut self,
-        list: &NeighbourList,
-        sums: &KernelSums,
-        ghosts: &Ghosts,
-        (nu_dt, factor): (f64, &[f64]),
+        hood: Hood,
+        diffusion: Diffusion,
         warm_start: &[Vec2],
         velocity: &mut [Vec2],
         prescribed: &[bool],
-        (tolerance, preconditioner): (f64, Preconditioner),
+        accuracy: Accuracy,
     ) -> Result<[SolveReport; 2], SolveError> {
-        self.matrix.assemble(
-            list,
-            sums,
-            ghosts,
-            Field::Velocity,
-            1.0,
-            -nu_dt,
-            prescribed,
+        let Diffusion { nu_dt, factor } = diffusion;
+        let Accuracy {
+            tolerance,
+            preconditioner,
+        } = accuracy;
+        let op = Operator {
+            field: Field::Velocity,
+            d: 1.0,
+            c: -nu_dt,
             factor,
-        );
-        self.add_wall_term(
-            Hood { list, sums, ghosts },
-            nu_dt,
-            velocity,
-            prescribed,
-            factor,
-        );
+        };
+        self.matrix.assemble(hood, op, prescribed);
+        self.add_wall_term(hood, nu_dt, velocity, prescribed, factor);
         let options = SolverOptions {
             relative_tolerance: tolerance,
             absolute_tolerance: 0.0,

@@ -36,7 +36,8 @@ use crate::engine::neighbours::NeighbourList;
 use crate::engine::operators::KernelSums;
 use crate::engine::rheology::Fluid;
 use crate::engine::settings::{positive, Invalid};
-pub use implicit::ImplicitViscosity;
+use implicit::Accuracy;
+pub use implicit::{Diffusion, ImplicitViscosity};
 use rheosph_solver::{SolveError, SolveReport};
 use serde::{Deserialize, Serialize};
 pub use shear_dependent::ShearDependentViscosity;
@@ -211,6 +212,14 @@ pub struct ViscousStage {
     implicit: Option<Box<ImplicitViscosity>>,
 }
 
+/// The rows held at a prescribed velocity (identity rows: an inflow buffer; empty: none)
+/// and that velocity.
+#[derive(Clone, Copy)]
+pub struct Prescribed<'a> {
+    pub rows: &'a [bool],
+    pub value: Vec2,
+}
+
 impl ViscousStage {
     /// Heap bytes held.
     pub fn heap_bytes(&self) -> usize {
@@ -249,36 +258,35 @@ impl ViscousStage {
     }
 
     /// The implicit solve `(I − θ δt ν L) u* = rhs`, overwriting `velocity` (the rest of (24)
-    /// on entry) with u*; `warm_start` is u^n; rows flagged in `prescribed` take the
-    /// velocity `value` (identity rows); `nu_dt` is δt ν with the variable viscosity's
-    /// factor (empty: uniform). Nothing for the explicit term.
+    /// on entry) with u*; `warm_start` is u^n; the `prescribed` rows take its velocity
+    /// (identity rows); `diffusion` is δt ν with the variable viscosity's factor, of which
+    /// the solve takes θ. Nothing for the explicit term.
     pub fn solve(
         &mut self,
         hood: Hood,
-        nu_dt: (f64, &[f64]),
+        diffusion: Diffusion,
         warm_start: &[Vec2],
         velocity: &mut [Vec2],
-        (prescribed, value): (&[bool], Vec2),
+        prescribed: Prescribed,
         preconditioner: rheosph_solver::Preconditioner,
     ) -> Result<Option<[SolveReport; 2]>, SolveError> {
-        let Hood { list, sums, ghosts } = hood;
         let (theta, tolerance) = (self.theta, self.tolerance);
+        let Prescribed { rows, value } = prescribed;
         let Some(m) = self.implicit.as_mut() else {
             return Ok(None);
         };
-        for (u, _) in velocity.iter_mut().zip(prescribed).filter(|(_, &b)| b) {
+        for (u, _) in velocity.iter_mut().zip(rows).filter(|(_, &b)| b) {
             *u = value;
         }
-        m.solve(
-            list,
-            sums,
-            ghosts,
-            (theta * nu_dt.0, nu_dt.1),
-            warm_start,
-            velocity,
-            prescribed,
-            (tolerance, preconditioner),
-        )
-        .map(Some)
+        let diffusion = Diffusion {
+            nu_dt: theta * diffusion.nu_dt,
+            ..diffusion
+        };
+        let accuracy = Accuracy {
+            tolerance,
+            preconditioner,
+        };
+        m.solve(hood, diffusion, warm_start, velocity, rows, accuracy)
+            .map(Some)
     }
 }

@@ -384,7 +384,8 @@ impl WeakStage {
         &mut self,
         hood: Hood,
         kernel: &QuinticSpline,
-        (velocity, shift): (&[Vec2], Option<&[Vec2]>),
+        velocity: &[Vec2],
+        shift: Option<&[Vec2]>,
         pressure: &mut [f64],
         dt: f64,
     ) {

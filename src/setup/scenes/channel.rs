@@ -181,7 +181,11 @@ impl ChannelSpec {
             }
             Some(u) => Some(positive("scene.mean_flow", u)?),
         };
-        let bounds = (self.length, self.height, self.resolution);
+        let bounds = SceneBox {
+            length: self.length,
+            height: self.height,
+            resolution: self.resolution,
+        };
         let discs = self
             .discs
             .iter()
@@ -196,13 +200,9 @@ impl ChannelSpec {
             .map(|c| c.validate(support, &discs))
             .transpose()?;
         let gravity = self.validate_gravity()?;
-        let refine = self.validate_refinement((walls, cylinder, rings))?;
+        let refine = self.validate_refinement(walls, cylinder, rings)?;
         Ok(Channel {
-            bounds: SceneBox {
-                length: self.length,
-                height: self.height,
-                resolution: self.resolution,
-            },
+            bounds,
             columns,
             body_force,
             velocity,
@@ -222,7 +222,9 @@ impl ChannelSpec {
     /// cylinder's layers clear of each other by a row of δr.
     fn validate_refinement(
         &self,
-        (walls, cylinder, rings): (bool, Option<Circle>, usize),
+        walls: bool,
+        cylinder: Option<Circle>,
+        rings: usize,
     ) -> Result<f64, FieldError> {
         let Some(refine) = self.refine_walls else {
             return Ok(1.0);
@@ -315,7 +317,11 @@ impl ChannelSpec {
 impl CylinderSpec {
     fn validate(&self, length: f64, height: f64, resolution: usize) -> Result<Circle, FieldError> {
         let centre = self.centre.unwrap_or([0.5 * length, 0.5 * height]);
-        let bounds = (length, height, resolution);
+        let bounds = SceneBox {
+            length,
+            height,
+            resolution,
+        };
         circle_in_box("scene.cylinder", self.radius, centre, bounds)
     }
 

@@ -9,6 +9,7 @@ use crate::engine::bodies::{Disc, Motion};
 use crate::engine::boundary::Circle;
 use crate::engine::math::Vec2;
 use crate::setup::error::{field_err, positive, FieldError};
+use crate::setup::scenes::SceneBox;
 use serde::{Deserialize, Serialize};
 
 /// One `[[scene.discs]]` table.
@@ -70,7 +71,7 @@ impl DiscPlan {
 }
 
 impl DiscSpec {
-    pub fn validate(&self, k: usize, bounds: (f64, f64, usize)) -> Result<DiscPlan, FieldError> {
+    pub fn validate(&self, k: usize, bounds: SceneBox) -> Result<DiscPlan, FieldError> {
         let field = format!("scene.discs[{k}]");
         let circle = circle_in_box(&field, self.radius, self.centre, bounds)?;
         let motion = match self.motion.as_deref().unwrap_or("free") {

@@ -350,8 +350,13 @@ pub(crate) fn circle_in_box(
     field: &str,
     radius: f64,
     centre: [f64; 2],
-    (length, height, resolution): (f64, f64, usize),
+    bounds: SceneBox,
 ) -> Result<Circle, FieldError> {
+    let SceneBox {
+        length,
+        height,
+        resolution,
+    } = bounds;
     let radius_field = format!("{field}.radius");
     let radius = positive(&radius_field, radius)?;
     let support = support_in_dr() * height / resolution as f64;

@@ -100,7 +100,15 @@ impl JetProbe {
         table::write_rows(&self.rows)
     }
 
-    pub fn summary(&self, spacing: f64, (wall_holds, detached): (u64, (u64, f64))) -> JetSummary {
+    /// The jet's impact, buckling onset and folding frequency; the free surface's wall holds
+    /// and the detached bodies' corrections ([`JetSummary`]) as the run counted them.
+    pub fn summary(
+        &self,
+        spacing: f64,
+        wall_holds: u64,
+        detached_body_steps: u64,
+        largest_detached_correction: f64,
+    ) -> JetSummary {
         let t_impact = self
             .rows
             .iter()
@@ -136,8 +144,8 @@ impl JetProbe {
                 .filter(|v| v.is_finite())
                 .fold(0.0, f64::max),
             wall_holds,
-            detached_body_steps: detached.0,
-            largest_detached_correction: detached.1,
+            detached_body_steps,
+            largest_detached_correction,
         }
     }
 
@@ -198,9 +206,8 @@ impl Probe for JetProbe {
         if let Some(format) = charts {
             self.charts(dir, format)?;
         }
-        Ok(Some(serde_json::to_value(self.summary(
-            sim.spacing,
-            (sim.surface_wall_holds(), sim.detached_corrections()),
-        ))?))
+        let (body_steps, largest) = sim.detached_corrections();
+        let summary = self.summary(sim.spacing, sim.surface_wall_holds(), body_steps, largest);
+        Ok(Some(serde_json::to_value(summary)?))
     }
 }
