@@ -8,6 +8,7 @@
 #   plots/regenerate.sh cylinders  # the cylinder array and the confined cylinder
 #   plots/regenerate.sh surfaces   # drops and jets
 #   plots/regenerate.sh models     # the non-linear models' and Couette's shipped cases (a minute)
+#   plots/regenerate.sh discs      # the free disc in shear at two resolutions and a wider cell
 # Then `rheosph gallery` rewrites the validation pages' generated tables from the runs and
 # lists every committed number that changed.
 set -euo pipefail
@@ -203,6 +204,18 @@ $R run cases/fene-p.toml --no-snapshots --no-charts --set scene.resolution=15 --
 $R run cases/fene-p.toml --no-snapshots --no-charts --set fluid.l2=10 --out plots/models/fene-p-l2-10
 $R run cases/lptt.toml --no-snapshots --no-charts --set scene.resolution=15 --out plots/models/lptt-15
 $R run cases/eptt.toml --no-snapshots --no-charts --set scene.resolution=15 --out plots/models/eptt-15
+fi
+
+if [ "$part" = all ] || [ "$part" = discs ]; then
+# The free disc in plane Couette flow: the shipped case (R/dr = 8), R/dr = 12, and a cell
+# twice as wide and high with the walls at -2 and 2 (the same shear rate).
+D=cases/disc-in-shear.toml
+$R run $D --no-snapshots --no-charts --out plots/discs/in-shear
+$R run $D --no-snapshots --no-charts --set scene.resolution=96 --out plots/discs/in-shear-r12
+$R run $D --no-snapshots --no-charts --set scene.length=16 --set scene.height=16 \
+  --set scene.resolution=128 --set 'scene.wall_velocity=[-2.0,2.0]' \
+  --set 'scene.discs=[{radius = 1.0, centre = [8.0, 8.0], motion = "free-rotation"}]' \
+  --out plots/discs/in-shear-wide
 fi
 
 # The validation pages' tables from what ran (the changed numbers are listed).

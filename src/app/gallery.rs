@@ -38,6 +38,9 @@ enum Kind {
     Runs,
     /// The `summary.json` of each run to a steady state named.
     Steady,
+    /// Chosen fields of each named run's `summary.json`: `name=/json/pointer` words name
+    /// the columns (`_` in a name is a space), the other words the run directories.
+    Values,
 }
 
 impl Kind {
@@ -49,6 +52,7 @@ impl Kind {
             "cylinder" => Kind::Cylinder,
             "runs" => Kind::Runs,
             "steady" => Kind::Steady,
+            "values" => Kind::Values,
             _ => return None,
         })
     }
@@ -390,6 +394,29 @@ fn steady(root: &Path, dirs: &[PathBuf]) -> Result<Table> {
     Ok(t)
 }
 
+/// One row per run directory, one column per `(name, JSON pointer)` of its `summary.json`:
+/// numbers to four significant digits, strings as they are.
+fn values(root: &Path, dirs: &[PathBuf], columns: &[(String, String)]) -> Result<Table> {
+    let mut header = vec!["run"];
+    header.extend(columns.iter().map(|(name, _)| name.as_str()));
+    let mut t = Table::new(&header);
+    for dir in dirs {
+        let s = Summary::read(&root.join(dir))?;
+        let mut row = vec![s.name(root)];
+        for (_, pointer) in columns {
+            row.push(match s.value.pointer(pointer) {
+                Some(serde_json::Value::Number(n)) if n.is_u64() => n.to_string(),
+                Some(serde_json::Value::Number(n)) => sig(n.as_f64().unwrap_or(f64::NAN), 4),
+                Some(serde_json::Value::String(text)) => text.replace('_', " "),
+                Some(serde_json::Value::Bool(b)) => b.to_string(),
+                _ => "–".into(),
+            });
+        }
+        t.rows.push(row);
+    }
+    Ok(t)
+}
+
 fn signed_percent(v: f64) -> String {
     match percent(v) {
         p if v > 0.0 => format!("+{p}"),
@@ -404,6 +431,8 @@ struct Block {
     close: usize,
     kind: Kind,
     sources: Vec<PathBuf>,
+    /// `name=/json/pointer` columns (the `values` kind).
+    columns: Vec<(String, String)>,
     /// The marker's text after `generated:`, for messages.
     label: String,
 }
@@ -424,6 +453,7 @@ impl Block {
             Kind::Cylinder => cylinder(&one()?),
             Kind::Runs => runs(root, &self.sources.iter().map(at).collect::<Vec<_>>()),
             Kind::Steady => steady(root, &self.sources.iter().map(at).collect::<Vec<_>>()),
+            Kind::Values => values(root, &self.sources, &self.columns),
         }
     }
 }
@@ -443,7 +473,13 @@ fn blocks(lines: &[&str], page: &str) -> Result<Vec<Block>> {
             .next()
             .and_then(Kind::parse)
             .with_context(|| format!("{page}:{}: unknown table kind in `{label}`", i + 1))?;
-        let sources = words.map(PathBuf::from).collect();
+        let (columns, sources): (Vec<&str>, Vec<&str>) = words.partition(|w| w.contains("=/"));
+        let columns = columns
+            .iter()
+            .filter_map(|w| w.split_once('='))
+            .map(|(name, pointer)| (name.replace('_', " "), pointer.to_string()))
+            .collect();
+        let sources = sources.into_iter().map(PathBuf::from).collect();
         let close = (i + 1..lines.len())
             .find(|&j| lines[j].trim() == CLOSE)
             .with_context(|| format!("{page}:{}: `{label}` has no `{CLOSE}`", i + 1))?;
@@ -452,6 +488,7 @@ fn blocks(lines: &[&str], page: &str) -> Result<Vec<Block>> {
             close,
             kind,
             sources,
+            columns,
             label,
         });
         i = close + 1;
@@ -598,5 +635,22 @@ mod tests {
         assert!(found[0]
             .what
             .contains("committed 0.300 %, regenerated 0.317 %"));
+    }
+
+    /// The `values` kind reads the named fields of each run's summary, numbers to four
+    /// significant digits; a field the summary lacks shows `–`.
+    #[test]
+    fn values_take_the_named_fields_of_each_summary() {
+        let dir = tempfile::tempdir().unwrap();
+        let run = dir.path().join("run");
+        std::fs::create_dir(&run).unwrap();
+        let summary = r#"{"outcome": "finished", "discs": [{"rotation_ratio": 0.977123}]}"#;
+        std::fs::write(run.join("summary.json"), summary).unwrap();
+        let page = dir.path().join("p.md");
+        let marker = "values run ratio=/discs/0/rotation_ratio missing_one=/nothing";
+        let text = format!("{OPEN} {marker} -->\n{CLOSE}\n");
+        let (fresh, _) = regenerate_page(dir.path(), &page, &text).unwrap();
+        assert!(fresh.contains("| run | ratio | missing one |"), "{fresh}");
+        assert!(fresh.contains("| `run` | 0.9771 | – |"), "{fresh}");
     }
 }

@@ -272,7 +272,8 @@ impl Default for SchemeSpec {
 pub struct RunSpec {
     /// The time the run ends at (the case's units).
     pub end_time: f64,
-    /// Time between rows of `series.csv` (default end_time/300).
+    /// Time between rows of `series.csv` (default end_time/300): a row at the first step at
+    /// or past each multiple.
     pub output_interval: Option<f64>,
     /// Time between `.vtu` snapshots (default end_time/20).
     pub snapshot_interval: Option<f64>,

@@ -217,9 +217,12 @@ pub fn report_start(case: &Case, d: &Derived) {
         case.name
     );
     eprintln!(
-        "  scene {}, model {}  Re = {:.4}  Wi = {:.4}  El = {:.4}  beta = {}  alpha_V = {}",
+        "  scene {}, model {}{}  Re = {:.4}  Wi = {:.4}  El = {:.4}  beta = {}  evss_alpha = {}",
         case.scene.kind(),
         f.model_name(),
+        (case.source.fluid.parameters.iter())
+            .map(|(key, value)| format!(" {key} = {value}"))
+            .collect::<String>(),
         d.reynolds,
         d.weissenberg,
         d.elasticity,
