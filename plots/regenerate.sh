@@ -7,7 +7,7 @@
 #   plots/regenerate.sh poiseuille # the Poiseuille studies only (about 1.5 h)
 #   plots/regenerate.sh cylinders  # the cylinder array and the confined cylinder
 #   plots/regenerate.sh surfaces   # drops and jets
-#   plots/regenerate.sh models     # the non-linear models' and Couette's shipped cases (a minute)
+#   plots/regenerate.sh models     # the non-linear models' and Couette's shipped cases (5 minutes)
 #   plots/regenerate.sh discs      # the free disc in shear at two resolutions and a wider cell
 # Then `rheosph gallery` rewrites the validation pages' generated tables from the runs and
 # lists every committed number that changed.
@@ -204,6 +204,10 @@ $R run cases/fene-p.toml --no-snapshots --no-charts --set scene.resolution=15 --
 $R run cases/fene-p.toml --no-snapshots --no-charts --set fluid.l2=10 --out plots/models/fene-p-l2-10
 $R run cases/lptt.toml --no-snapshots --no-charts --set scene.resolution=15 --out plots/models/lptt-15
 $R run cases/eptt.toml --no-snapshots --no-charts --set scene.resolution=15 --out plots/models/eptt-15
+for a in 0.1 0.3; do
+  $R run cases/giesekus.toml --no-snapshots --no-charts --set scene.resolution=30 --set fluid.alpha=$a \
+    --out plots/models/giesekus-alpha$a-30
+done
 fi
 
 if [ "$part" = all ] || [ "$part" = discs ]; then
