@@ -220,6 +220,8 @@ $R run $D --no-snapshots --no-charts --set scene.length=16 --set scene.height=16
   --set scene.resolution=128 --set 'scene.wall_velocity=[-2.0,2.0]' \
   --set 'scene.discs=[{radius = 1.0, centre = [8.0, 8.0], motion = "free-rotation"}]' \
   --out plots/discs/in-shear-wide
+# The same disc in an Oldroyd-B matrix, De = 0.25 ... 2 at beta = 0.5 and 0.2 (about 20 min).
+scripts/disc_rotation.sh plots/discs/rotation > plots/discs/rotation.csv
 fi
 
 # The validation pages' tables from what ran (the changed numbers are listed).

@@ -395,7 +395,7 @@ fn steady(root: &Path, dirs: &[PathBuf]) -> Result<Table> {
 }
 
 /// One row per run directory, one column per `(name, JSON pointer)` of its `summary.json`:
-/// numbers to four significant digits, strings as they are.
+/// numbers as [`short`] writes them, strings as they are.
 fn values(root: &Path, dirs: &[PathBuf], columns: &[(String, String)]) -> Result<Table> {
     let mut header = vec!["run"];
     header.extend(columns.iter().map(|(name, _)| name.as_str()));
@@ -406,7 +406,7 @@ fn values(root: &Path, dirs: &[PathBuf], columns: &[(String, String)]) -> Result
         for (_, pointer) in columns {
             row.push(match s.value.pointer(pointer) {
                 Some(serde_json::Value::Number(n)) if n.is_u64() => n.to_string(),
-                Some(serde_json::Value::Number(n)) => sig(n.as_f64().unwrap_or(f64::NAN), 4),
+                Some(serde_json::Value::Number(n)) => short(n.as_f64().unwrap_or(f64::NAN)),
                 Some(serde_json::Value::String(text)) => text.replace('_', " "),
                 Some(serde_json::Value::Bool(b)) => b.to_string(),
                 _ => "–".into(),
