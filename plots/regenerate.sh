@@ -204,6 +204,16 @@ $R run cases/fene-p.toml --no-snapshots --no-charts --set scene.resolution=15 --
 $R run cases/fene-p.toml --no-snapshots --no-charts --set fluid.l2=10 --out plots/models/fene-p-l2-10
 $R run cases/lptt.toml --no-snapshots --no-charts --set scene.resolution=15 --out plots/models/lptt-15
 $R run cases/eptt.toml --no-snapshots --no-charts --set scene.resolution=15 --out plots/models/eptt-15
+# The generalised Newtonian channels at three resolutions.
+G=plots/generalised-newtonian
+for r in 15 30 60; do
+  $R run cases/power-law-channel.toml --no-snapshots --no-charts --set scene.resolution=$r \
+    --out $G/power-law-0.5-$r
+  $R run cases/power-law-channel.toml --no-snapshots --no-charts --set scene.resolution=$r \
+    --set fluid.power_index=1.5 --set run.end_time=10 --out $G/power-law-1.5-$r
+  $R run cases/bingham-channel.toml --no-snapshots --no-charts --set scene.resolution=$r \
+    --out $G/bingham-$r
+done
 for a in 0.1 0.3; do
   $R run cases/giesekus.toml --no-snapshots --no-charts --set scene.resolution=30 --set fluid.alpha=$a \
     --out plots/models/giesekus-alpha$a-30

@@ -39,7 +39,8 @@ enum Kind {
     /// The `summary.json` of each run to a steady state named.
     Steady,
     /// Chosen fields of each named run's `summary.json`: `name=/json/pointer` words name
-    /// the columns (`_` in a name is a space), the other words the run directories.
+    /// the columns (`_` in a name is a space; a pointer ending in `%` is a fraction shown as
+    /// a percentage), the other words the run directories.
     Values,
 }
 
@@ -404,6 +405,11 @@ fn values(root: &Path, dirs: &[PathBuf], columns: &[(String, String)]) -> Result
         let s = Summary::read(&root.join(dir))?;
         let mut row = vec![s.name(root)];
         for (_, pointer) in columns {
+            // A pointer ending in `%` is a fraction shown as a percentage.
+            if let Some(fraction) = pointer.strip_suffix('%') {
+                row.push(percent(s.num(fraction)));
+                continue;
+            }
             row.push(match s.value.pointer(pointer) {
                 Some(serde_json::Value::Number(n)) if n.is_u64() => n.to_string(),
                 Some(serde_json::Value::Number(n)) => short(n.as_f64().unwrap_or(f64::NAN)),
@@ -647,10 +653,13 @@ mod tests {
         let summary = r#"{"outcome": "finished", "discs": [{"rotation_ratio": 0.977123}]}"#;
         std::fs::write(run.join("summary.json"), summary).unwrap();
         let page = dir.path().join("p.md");
-        let marker = "values run ratio=/discs/0/rotation_ratio missing_one=/nothing";
+        let marker = "values run ratio=/discs/0/rotation_ratio missing_one=/nothing r=/discs/0/rotation_ratio%";
         let text = format!("{OPEN} {marker} -->\n{CLOSE}\n");
         let (fresh, _) = regenerate_page(dir.path(), &page, &text).unwrap();
-        assert!(fresh.contains("| run | ratio | missing one |"), "{fresh}");
-        assert!(fresh.contains("| `run` | 0.9771 | – |"), "{fresh}");
+        assert!(
+            fresh.contains("| run | ratio | missing one | r |"),
+            "{fresh}"
+        );
+        assert!(fresh.contains("| `run` | 0.9771 | – | 97.7 % |"), "{fresh}");
     }
 }
