@@ -7,7 +7,7 @@
 #   plots/regenerate.sh poiseuille # the Poiseuille studies only (about 1.5 h)
 #   plots/regenerate.sh cylinders  # the cylinder array and the confined cylinder
 #   plots/regenerate.sh surfaces   # drops and jets
-#   plots/regenerate.sh models     # the non-linear models' and Couette's shipped cases (5 minutes)
+#   plots/regenerate.sh models     # the models', Couette's, the cavity's and the GN channels' cases (10 min)
 #   plots/regenerate.sh discs      # the free disc in shear at two resolutions and a wider cell
 # Then `rheosph gallery` rewrites the validation pages' generated tables from the runs and
 # lists every committed number that changed.
@@ -204,6 +204,17 @@ $R run cases/fene-p.toml --no-snapshots --no-charts --set scene.resolution=15 --
 $R run cases/fene-p.toml --no-snapshots --no-charts --set fluid.l2=10 --out plots/models/fene-p-l2-10
 $R run cases/lptt.toml --no-snapshots --no-charts --set scene.resolution=15 --out plots/models/lptt-15
 $R run cases/eptt.toml --no-snapshots --no-charts --set scene.resolution=15 --out plots/models/eptt-15
+# The lid-driven cavity: Newtonian to t = 2 at three resolutions, the shipped Oldroyd-B case at two.
+C=plots/lid-driven-cavity
+for r in 20 40 80; do
+  $R run cases/lid-driven-cavity.toml --no-snapshots --no-charts --set scene.resolution=$r \
+    --set fluid.model=newtonian --set fluid.beta=1 --set fluid.relaxation_time=0 \
+    --set run.end_time=2 --out $C/newtonian-$r
+done
+for r in 40 80; do
+  $R run cases/lid-driven-cavity.toml --no-snapshots --no-charts --set scene.resolution=$r \
+    --out $C/oldroyd-b-$r
+done
 # The generalised Newtonian channels at three resolutions.
 G=plots/generalised-newtonian
 for r in 15 30 60; do
