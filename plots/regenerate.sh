@@ -199,6 +199,7 @@ if [ "$part" = all ] || [ "$part" = models ]; then
 # default scheme, and the coarser and L^2 = 10 companions of the models page.
 for c in couette fene-p fene-cr lptt eptt; do
   $R run cases/$c.toml --no-snapshots --no-charts --out plots/models/$c
+  $R run cases/$c.toml --no-snapshots --no-charts --set scheme.viscosity=explicit --out plots/models/$c-explicit
 done
 $R run cases/fene-p.toml --no-snapshots --no-charts --set scene.resolution=15 --out plots/models/fene-p-15
 $R run cases/fene-p.toml --no-snapshots --no-charts --set fluid.l2=10 --out plots/models/fene-p-l2-10
