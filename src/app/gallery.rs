@@ -42,6 +42,9 @@ enum Kind {
     /// the columns (`_` in a name is a space; a pointer ending in `%` is a fraction shown as
     /// a percentage), the other words the run directories.
     Values,
+    /// Chosen columns of a committed CSV file, row by row: `name=column` words (the file's
+    /// header names the columns), the other word the file.
+    Columns,
 }
 
 impl Kind {
@@ -54,6 +57,7 @@ impl Kind {
             "runs" => Kind::Runs,
             "steady" => Kind::Steady,
             "values" => Kind::Values,
+            "columns" => Kind::Columns,
             _ => return None,
         })
     }
@@ -423,6 +427,31 @@ fn values(root: &Path, dirs: &[PathBuf], columns: &[(String, String)]) -> Result
     Ok(t)
 }
 
+/// The named columns of the CSV file `source`, numbers as [`short`] writes them.
+fn columns(source: &Path, columns: &[(String, String)]) -> Result<Table> {
+    let rows: Vec<std::collections::BTreeMap<String, String>> = table::read_rows(source)?;
+    let mut header = vec!["row"];
+    header.extend(columns.iter().map(|(name, _)| name.as_str()));
+    let mut t = Table::new(&header);
+    for (k, row) in rows.iter().enumerate() {
+        let mut line = vec![(k + 1).to_string()];
+        for (name, column) in columns {
+            let cell = row.get(column).with_context(|| {
+                format!(
+                    "{} has no column `{column}` (for `{name}`)",
+                    source.display()
+                )
+            })?;
+            line.push(match cell.parse::<f64>() {
+                Ok(v) => short(v),
+                Err(_) => cell.clone(),
+            });
+        }
+        t.rows.push(line);
+    }
+    Ok(t)
+}
+
 fn signed_percent(v: f64) -> String {
     match percent(v) {
         p if v > 0.0 => format!("+{p}"),
@@ -437,7 +466,7 @@ struct Block {
     close: usize,
     kind: Kind,
     sources: Vec<PathBuf>,
-    /// `name=/json/pointer` columns (the `values` kind).
+    /// `name=/json/pointer` (the `values` kind) or `name=column` (the `columns` kind).
     columns: Vec<(String, String)>,
     /// The marker's text after `generated:`, for messages.
     label: String,
@@ -460,6 +489,7 @@ impl Block {
             Kind::Runs => runs(root, &self.sources.iter().map(at).collect::<Vec<_>>()),
             Kind::Steady => steady(root, &self.sources.iter().map(at).collect::<Vec<_>>()),
             Kind::Values => values(root, &self.sources, &self.columns),
+            Kind::Columns => columns(&one()?, &self.columns),
         }
     }
 }
@@ -479,7 +509,7 @@ fn blocks(lines: &[&str], page: &str) -> Result<Vec<Block>> {
             .next()
             .and_then(Kind::parse)
             .with_context(|| format!("{page}:{}: unknown table kind in `{label}`", i + 1))?;
-        let (columns, sources): (Vec<&str>, Vec<&str>) = words.partition(|w| w.contains("=/"));
+        let (columns, sources): (Vec<&str>, Vec<&str>) = words.partition(|w| w.contains('='));
         let columns = columns
             .iter()
             .filter_map(|w| w.split_once('='))
