@@ -692,4 +692,23 @@ mod tests {
         );
         assert!(fresh.contains("| `run` | 0.9771 | – | 97.7 % |"), "{fresh}");
     }
+
+    /// The `columns` kind reads the named columns of a CSV file by header; a column the file
+    /// lacks is an error naming it.
+    #[test]
+    fn columns_take_the_named_columns_of_a_csv() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("b.csv"), "n,step_ms,note\n1024,0.89940,a\n").unwrap();
+        let page = dir.path().join("p.md");
+        let text = format!("{OPEN} columns b.csv N=n step=step_ms what=note -->\n{CLOSE}\n");
+        let (fresh, _) = regenerate_page(dir.path(), &page, &text).unwrap();
+        assert!(fresh.contains("| row | N | step | what |"), "{fresh}");
+        assert!(fresh.contains("| 1 | 1024 | 0.8994 | a |"), "{fresh}");
+        let text = format!("{OPEN} columns b.csv N=count -->\n{CLOSE}\n");
+        let error = format!(
+            "{:#}",
+            regenerate_page(dir.path(), &page, &text).unwrap_err()
+        );
+        assert!(error.contains("no column `count`"), "{error}");
+    }
 }
