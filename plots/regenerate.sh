@@ -216,6 +216,11 @@ for r in 40 80; do
   $R run cases/lid-driven-cavity.toml --no-snapshots --no-charts --set scene.resolution=$r \
     --out $C/oldroyd-b-$r
 done
+# The static drop's Laplace pressure at R/dr = 10, 20, 40.
+for r in 20 40 80; do
+  $R run cases/static-drop.toml --no-snapshots --no-charts --set scene.resolution=$r \
+    --out plots/static-drop/ring-$r
+done
 # The generalised Newtonian channels at three resolutions.
 G=plots/generalised-newtonian
 for r in 15 30 60; do

@@ -117,7 +117,8 @@ impl std::fmt::Display for Contradiction {
     }
 }
 
-/// A value to `digits` significant digits, without an exponent; `–` if not finite.
+/// A value to `digits` significant digits, without an exponent down to 0.001; `–` if not
+/// finite.
 fn sig(v: f64, digits: i32) -> String {
     if !v.is_finite() {
         return "–".into();
@@ -126,6 +127,11 @@ fn sig(v: f64, digits: i32) -> String {
         return "0".into();
     }
     let magnitude = v.abs().log10().floor() as i32;
+    if magnitude < -3 {
+        // Below 0.001 the digits would hide behind zeros: 1.19e-7, not 0.0000001192.
+        let decimals = (digits - 1).max(0) as usize;
+        return format!("{v:.decimals$e}");
+    }
     let decimals = (digits - 1 - magnitude).max(0) as usize;
     format!("{v:.decimals$}")
 }
@@ -623,6 +629,7 @@ mod tests {
     #[test]
     fn numbers_keep_their_significant_digits_without_exponents() {
         assert_eq!(sig(0.0031683, 3), "0.00317");
+        assert_eq!(sig(1.1916e-7, 3), "1.19e-7");
         assert_eq!(sig(117.7834, 5), "117.78");
         assert_eq!(sig(2663.0, 3), "2663");
         assert_eq!(percent(3.168346e-3), "0.317 %");
