@@ -412,7 +412,7 @@ fn values(root: &Path, dirs: &[PathBuf], columns: &[(String, String)]) -> Result
     header.extend(columns.iter().map(|(name, _)| name.as_str()));
     let mut t = Table::new(&header);
     for dir in dirs {
-        let s = Summary::read(&root.join(dir))?;
+        let s = Summary::read(dir)?;
         let mut row = vec![s.name(root)];
         for (_, pointer) in columns {
             // A pointer ending in `%` is a fraction shown as a percentage.
@@ -494,7 +494,10 @@ impl Block {
             Kind::Cylinder => cylinder(&one()?),
             Kind::Runs => runs(root, &self.sources.iter().map(at).collect::<Vec<_>>()),
             Kind::Steady => steady(root, &self.sources.iter().map(at).collect::<Vec<_>>()),
-            Kind::Values => values(root, &self.sources, &self.columns),
+            Kind::Values => {
+                let dirs = self.sources.iter().map(at).collect::<Vec<_>>();
+                values(root, &dirs, &self.columns)
+            }
             Kind::Columns => columns(&one()?, &self.columns),
         }
     }
