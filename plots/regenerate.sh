@@ -8,7 +8,7 @@
 #   plots/regenerate.sh cylinders  # the cylinder array and the confined cylinder
 #   plots/regenerate.sh surfaces   # drops and jets
 #   plots/regenerate.sh models     # the models', Couette's, the cavity's and the GN channels' cases (10 min)
-#   plots/regenerate.sh discs      # the free disc in shear at two resolutions and a wider cell
+#   plots/regenerate.sh discs      # the free disc in shear, migration, near contact, sedimentation (30 min)
 # Then `rheosph gallery` rewrites the validation pages' generated tables from the runs and
 # lists every committed number that changed.
 set -euo pipefail
@@ -49,6 +49,12 @@ $R study stability $C --wi 1,4,16,32,40,64 --vary scheme.conformation.form=log,d
 # UCM (beta = 0, alpha_V = 0.01): the shipped case with and without its hourglass control.
 RAYON_NUM_THREADS=1 $R study stability cases/poiseuille-ucm.toml --wi 1,2,4,8,16,32 \
   --vary scheme.conformation.hourglass_control=0,0.2 --out plots/stability-elastic-rule/ucm-hourglass
+# The elastic step rule with no tuning, t = 15: Re = 1 with the paper's explicit and with
+# implicit viscosity (the explicit runs about 11 min each), and Re = 0.01.
+$R study stability $C --wi 1,2,4,8,16,32,64,85,128 --vary scheme.viscosity=explicit,implicit \
+  --out plots/stability-elastic-rule/re1
+$R study stability cases/poiseuille-re0.01.toml --wi 1,4,8,16,32,40,64 \
+  --out plots/stability-elastic-rule/re0.01
 # What accuracy each second buys: resolutions x viscosity treatment x frame.
 $R study speed-accuracy $C --resolutions 15,30,60 --vary scheme.viscosity=explicit,implicit \
   --vary scheme.frame=lagrangian,eulerian --set run.end_time=5 --out plots/speed-accuracy
@@ -58,6 +64,18 @@ $R study speed-accuracy $C --resolutions 15,30,60 --variant scheme.viscosity=cra
   --variant 'scheme.viscosity=crank-nicolson;scheme.frame=eulerian' \
   --variant scheme.viscosity=implicit --variant scheme.viscosity=explicit \
   --out plots/speed-accuracy-second-order
+# Crank-Nicolson's step at H/dr = 60 (its default and larger) beside the explicit scheme,
+# one thread per run (about 30 min).
+RAYON_NUM_THREADS=1 $R study speed-accuracy $C --resolutions 60 --variant scheme.viscosity=explicit \
+  --variant scheme.viscosity=crank-nicolson \
+  --variant 'scheme.viscosity=crank-nicolson;scheme.time_step.factor=0.3' \
+  --variant 'scheme.viscosity=crank-nicolson;scheme.time_step.factor=0.4' --out plots/speed-accuracy-step
+# H/dr = 120 (14 400 particles; the explicit run alone takes about 6 h on 2 threads).
+$R study speed-accuracy $C --resolutions 120 --variant scheme.viscosity=explicit \
+  --variant scheme.viscosity=implicit --variant scheme.viscosity=crank-nicolson \
+  --variant 'scheme.viscosity=crank-nicolson;scheme.frame=eulerian' \
+  --variant 'scheme.viscosity=crank-nicolson;scheme.operators.gradient=second;scheme.operators.laplacian=second' \
+  --out plots/speed-accuracy-120
 fi
 
 if [ "$part" = all ] || [ "$part" = cylinders ]; then
@@ -94,6 +112,12 @@ $R study cylinder cases/cylinder-array.toml --wi 1,2,4,8,16 --sequence 36:40,72:
 $R study cylinder cases/cylinder-array.toml --wi 1,2,4 --sequence 36:40,72:15 \
   --set scene.mean_flow=1.0 --set run.end_time=30 --jobs 2 --reuse \
   --out plots/cylinder-array/p2-steady
+# Wi = 4 and 8 at P2 by the same sequence, run longer: Wi = 4 to steady state and averaged,
+# Wi = 8 to t = 24, not steady (about 1.5 h and 2.5 h at P2 on one thread).
+$R study cylinder cases/cylinder-array.toml --wi 4 --sequence 36:40,72:15 \
+  --set scene.mean_flow=1.0 --set run.end_time=30 --reuse --out plots/cylinder-array/p2-wi4
+$R study cylinder cases/cylinder-array.toml --wi 8 --sequence 36:40,72:15 \
+  --set scene.mean_flow=1.0 --set run.end_time=24 --reuse --out plots/cylinder-array/p2-wi8
 W="--no-snapshots --set fluid.relaxation_time=16 --set scene.mean_flow=1.0 --set run.steady.tolerance=1e-12"
 $R run cases/cylinder-array.toml $W --set scene.resolution=36 --set run.end_time=40 \
   --out runs/p2-wi16/s36
@@ -138,8 +162,8 @@ O=plots/drop-impact
 N="--set fluid.model=newtonian --set fluid.beta=1 --set fluid.relaxation_time=0"
 for r in 20 40 80; do $R run $D --no-snapshots --set scene.resolution=$r --out $O/res$r || true; done
 $R run $D --out $O/res120 || true
-# De from 0.5 to 1000 (lambda = De W/U) and beta at De = 5, W/dr = 40; the breakdowns are data.
-for de in 0.5 5 10 20 50 100 500 1000; do
+# De from 0.5 to 1e5 (lambda = De W/U) and beta at De = 5, W/dr = 40 and 80; the breakdowns are data.
+for de in 0.5 5 10 20 50 100 500 1000 5000 100000; do
   $R run $D --no-snapshots --set scene.resolution=40 --set fluid.relaxation_time=$(python3 -c "print($de*0.02)") \
     --out $O/de40/De_$de || true
 done
@@ -147,6 +171,10 @@ $R run $D --no-snapshots --set scene.resolution=40 $N --out $O/de40/newtonian
 for b in 0.2 0.05 0.02 0.01; do
   $R run $D --no-snapshots --set scene.resolution=40 --set fluid.relaxation_time=0.1 --set fluid.beta=$b \
     --out $O/beta40/beta_$b || true
+done
+for b in 0.05 0.02 0.01; do
+  $R run $D --no-snapshots --set scene.resolution=80 --set fluid.relaxation_time=0.1 --set fluid.beta=$b \
+    --out $O/beta80/beta_$b || true
 done
 # Normal-stress Dirichlet pressure (35a) against p = 0, and the Newtonian drop, at W/dr = 80.
 $R run $D --no-snapshots --set scene.resolution=80 --set scheme.free_surface.pressure=zero --out $O/p-zero80
@@ -192,6 +220,51 @@ for l in 10 100; do
   $R run $J --set fluid.model=fene-cr --set fluid.l2=$l --out plots/jet-buckling/fene-cr/L2_$l || true
 done
 $R run $J --set fluid.model=giesekus --set fluid.alpha=0.3 --out plots/jet-buckling/giesekus/alpha_0.3 || true
+# Capillarity (one thread each, about 40 min in all): the drop cut from the square lattice at
+# R/dr = 10, 20, 40; the oscillating drop at R/dr = 10, 20, 40, with the paper's operators,
+# over sigma (four periods each) and at Oh = 0.05 with and without the shear-free flux; the
+# Oldroyd-B drop over lambda; the sessile drop over theta at R/dr = 10 and 20 (the breakdowns
+# are data); the meniscus at 30 degrees (the angle held at the centres and at the surface), 60
+# and 120; the pool at rest with g in the reduced pressure and in the predictor.
+K=plots/capillarity
+Q="--no-snapshots --no-charts"
+for r in 20 40 80; do
+  RAYON_NUM_THREADS=1 $R run cases/static-drop.toml $Q --set scene.resolution=$r \
+    --set scene.drop.lattice=square --out $K/square-$r
+done
+OD=cases/oscillating-drop.toml
+for r in 20 40; do RAYON_NUM_THREADS=1 $R run $OD $Q --set scene.resolution=$r --out $K/oscillating-$((r/2)); done
+RAYON_NUM_THREADS=1 $R run $OD --no-snapshots --out $K/oscillating-40
+RAYON_NUM_THREADS=1 $R run $OD $Q --set scene.resolution=40 --set scheme.operators.gradient=first \
+  --set scheme.surface_tension.time_level=predicted --out $K/oscillating-20-paper-operators
+for s in 0.25:21 4:5.25 16:2.625; do
+  RAYON_NUM_THREADS=1 $R run $OD $Q --set scene.resolution=40 --set fluid.surface_tension=${s%:*} \
+    --set run.end_time=${s#*:} --out $K/oscillating-20-sigma-${s%:*}
+done
+for r in 20 40 80; do
+  RAYON_NUM_THREADS=1 $R run $OD $Q --set scene.resolution=$r --set fluid.viscosity=0.05 --out $K/oh0.05-$((r/2))
+  RAYON_NUM_THREADS=1 $R run $OD $Q --set scene.resolution=$r --set fluid.viscosity=0.05 \
+    --set experimental.surface_shear=shear-free --out $K/oh0.05-shear-free-$((r/2))
+done
+for l in 0.1 0.4 1 4; do
+  RAYON_NUM_THREADS=1 $R run cases/oscillating-drop-oldroyd-b.toml $Q --set fluid.relaxation_time=$l \
+    --out $K/oldroyd-b-lambda-$l
+done
+for a in 40 60 90 120 140; do
+  RAYON_NUM_THREADS=1 $R run cases/sessile-drop.toml $Q --set scene.resolution=20 --set scene.contact_angle=$a \
+    --out $K/sessile-r10-$a || true
+  RAYON_NUM_THREADS=1 $R run cases/sessile-drop.toml $Q --set scene.contact_angle=$a --out $K/sessile-$a || true
+done
+M=cases/meniscus.toml
+RAYON_NUM_THREADS=1 $R run $M --no-snapshots --out $K/meniscus
+RAYON_NUM_THREADS=1 $R run $M $Q --set scene.contact_angle=30 --set fluid.viscosity=0.1 --set run.end_time=30 \
+  --out $K/meniscus-30
+RAYON_NUM_THREADS=1 $R run $M $Q --set scene.contact_angle=30 --set fluid.viscosity=0.1 --set run.end_time=30 \
+  --set experimental.contact_angle_at=surface --out $K/meniscus-30-surface
+RAYON_NUM_THREADS=1 $R run $M $Q --set scene.contact_angle=120 --out $K/meniscus-120
+S="--set scene.contact_angle=90 --set fluid.surface_tension=1e-9 --set run.output_interval=5"
+RAYON_NUM_THREADS=1 $R run $M $Q $S --out $K/still-water
+RAYON_NUM_THREADS=1 $R run $M $Q $S --set scheme.gravity=predictor --out $K/still-water-predictor
 fi
 
 if [ "$part" = all ] || [ "$part" = models ]; then
@@ -249,6 +322,31 @@ $R run $D --no-snapshots --no-charts --set scene.length=16 --set scene.height=16
   --out plots/discs/in-shear-wide
 # The same disc in an Oldroyd-B matrix, De = 0.25 ... 2 at beta = 0.5 and 0.2 (about 20 min).
 scripts/disc_rotation.sh plots/discs/rotation > plots/discs/rotation.csv
+# Migration of a free disc at y = H/2 - R to a strain of 50, Oldroyd-B and Newtonian, one output
+# every strain of 10 (one thread: about 5 min each).
+M=cases/disc-migration.toml
+RAYON_NUM_THREADS=1 $R run $M --no-snapshots --no-charts --set run.output_interval=40 --out plots/discs/migration
+RAYON_NUM_THREADS=1 $R run $M --no-snapshots --no-charts --set run.output_interval=40 \
+  --set fluid.model=newtonian --set fluid.relaxation_time=0 --set fluid.beta=1 --out plots/discs/migration-newtonian
+# A heavy disc settling onto the floor of an 8R x 8R Newtonian box, with and without the
+# lubrication correction (about 20 s each).
+S=cases/disc-sedimentation.toml
+for lub in true false; do
+  out=plots/discs/settling-on-floor; [ $lub = true ] || out=$out-unlubricated
+  RAYON_NUM_THREADS=1 $R run $S --no-snapshots --no-charts --set scene.length=8 --set 'scene.gravity=[0.0,-10.0]' \
+    --set 'scene.discs=[{radius = 1.0, centre = [4.0, 2.5], motion = "free", density_ratio = 2.0}]' \
+    --set "scene.contact={strength = 0.01, repulsion = \"exponential\", lubrication = $lub}" \
+    --set fluid.model=newtonian --set fluid.relaxation_time=0 --set fluid.beta=1 \
+    --set run.output_interval=0.25 --set scheme.viscosity=implicit --out $out || true
+done
+# Sedimentation between walls, Oldroyd-B (the shipped case) and Newtonian (about 1 min each).
+RAYON_NUM_THREADS=1 $R run $S --no-snapshots --no-charts --out plots/discs/sedimentation
+RAYON_NUM_THREADS=1 $R run $S --no-snapshots --no-charts --set fluid.model=newtonian \
+  --set fluid.relaxation_time=0 --set fluid.beta=1 --out plots/discs/sedimentation-newtonian
+# Twelve discs settling in a closed box, to t = 100 (one thread: about 4 min).
+RAYON_NUM_THREADS=1 $R run cases/disc-settling-array.toml --no-snapshots --no-charts \
+  --set run.end_time=100 --set run.output_interval=100 --out plots/discs/settling-array
+rm -f plots/discs/*/checkpoint.bin plots/discs/*/final_state.bin plots/discs/*/profile.csv
 fi
 
 # The validation pages' tables from what ran (the changed numbers are listed).

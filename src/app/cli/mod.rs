@@ -62,10 +62,11 @@ pub enum Command {
     /// Regenerate the validation pages' marked tables from the run outputs under `plots/`
     /// and list every committed number that changed (run from the repository's root).
     Gallery {
-        /// Write nothing; exit with an error if a committed number contradicts its source.
+        /// Write nothing; exit with an error if a committed number contradicts its source
+        /// or a result is typed outside the generated tables.
         #[arg(long)]
         check: bool,
-        /// The directory of the pages.
+        /// The directory of the pages, or one page.
         #[arg(long, default_value = "docs/src/validation")]
         pages: PathBuf,
     },
@@ -186,14 +187,18 @@ fn dispatch(cli: Cli) -> anyhow::Result<u8> {
         }
         Command::Gallery { check, pages } => {
             let found = crate::app::gallery::regenerate(std::path::Path::new("."), &pages, check)?;
-            for c in &found {
+            for c in &found.contradictions {
                 println!("{c}");
             }
-            match (check, found.len()) {
-                (true, n) if n > 0 => {
-                    anyhow::bail!("{n} committed numbers contradict their sources (above)")
-                }
-                _ => Ok(EXIT_FINISHED),
+            for t in &found.typed {
+                println!("{t}: a result typed outside the generated tables");
+            }
+            let (n, typed) = (found.contradictions.len(), found.typed.len());
+            match check && n + typed > 0 {
+                true => anyhow::bail!(
+                    "{n} committed numbers contradict their sources, {typed} results are typed (above)"
+                ),
+                false => Ok(EXIT_FINISHED),
             }
         }
         Command::Check(args) => {

@@ -9,14 +9,17 @@
 //!
 //! `rheosph gallery` rewrites every marked table from its source and lists each number that
 //! changed; `rheosph gallery --check` writes nothing and fails on a committed number that its
-//! source contradicts, so a page cannot quote a figure the runs no longer give. Wall-clock
-//! columns are shown but not compared: they belong to the machine and the day of the run.
+//! source contradicts, so a page cannot quote a figure the runs no longer give, and on a
+//! result typed in the prose around the tables ([`typed`]). Wall-clock columns are shown but
+//! not compared: they belong to the machine and the day of the run.
 
 use crate::app::study::{convergence, cylinder, speed_accuracy, stability};
 use crate::app::table;
 use anyhow::{bail, Context, Result};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+
+mod typed;
 
 const OPEN: &str = "<!-- generated:";
 const CLOSE: &str = "<!-- end generated -->";
@@ -570,21 +573,39 @@ fn compare(committed: &Table, regenerated: &Table) -> Vec<String> {
     found
 }
 
-/// Regenerates the marked tables of every Markdown page in `pages` (sources relative to
-/// `root`); writes the pages unless `check`. Returns the contradictions found.
-pub fn regenerate(root: &Path, pages: &Path, check: bool) -> Result<Vec<Contradiction>> {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(pages)
-        .with_context(|| format!("reading {}", pages.display()))?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x == "md"))
-        .collect();
+/// What regenerating the pages found: committed numbers their sources contradict, and
+/// results typed outside the generated tables (see [`typed`]).
+#[derive(Debug, Default)]
+pub struct Findings {
+    pub contradictions: Vec<Contradiction>,
+    /// `page:line: number` of each typed result.
+    pub typed: Vec<String>,
+}
+
+/// Regenerates the marked tables of `pages` (one Markdown page, or every page of a
+/// directory; sources relative to `root`); writes the pages unless `check`.
+pub fn regenerate(root: &Path, pages: &Path, check: bool) -> Result<Findings> {
+    let mut files: Vec<PathBuf> = if pages.is_file() {
+        vec![pages.to_path_buf()]
+    } else {
+        std::fs::read_dir(pages)
+            .with_context(|| format!("reading {}", pages.display()))?
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.extension().is_some_and(|x| x == "md"))
+            .collect()
+    };
     files.sort();
-    let mut found = Vec::new();
+    let mut found = Findings::default();
     for page in files {
         let text = std::fs::read_to_string(&page)
             .with_context(|| format!("reading {}", page.display()))?;
         let (rewritten, mut contradictions) = regenerate_page(root, &page, &text)?;
-        found.append(&mut contradictions);
+        found.contradictions.append(&mut contradictions);
+        found.typed.extend(
+            typed::typed_numbers(&text)
+                .into_iter()
+                .map(|t| format!("{}:{}: {}", page.display(), t.line, t.number)),
+        );
         if !check && rewritten != text {
             crate::app::io::write_atomic(&page, rewritten.as_bytes())?;
         }
