@@ -522,3 +522,84 @@ fn the_validation_pages_generated_tables_match_their_runs() {
         String::from_utf8_lossy(&o.stderr)
     );
 }
+
+/// A study's members run elsewhere: `--emit` writes their cases and scripts and runs nothing;
+/// `--collect` lists a member not yet run and fails; once the emitted script has run the rest
+/// (skipping the one run by hand), `--collect` assembles the same `stability.csv` as the study
+/// run here, wall times aside (runs are deterministic whatever the thread count).
+#[test]
+fn emitted_members_run_elsewhere_collect_to_the_same_study() {
+    let dir = tempfile::tempdir().unwrap();
+    let (here, emit) = (dir.path().join("here"), dir.path().join("emit"));
+    let study = |extra: &[&str]| {
+        let mut args = vec![
+            "study",
+            "stability",
+            "cases/poiseuille.toml",
+            "--wi",
+            "0.5,2",
+            "--set",
+            "scene.resolution=12",
+            "--set",
+            "run.end_time=0.5",
+        ];
+        args.extend_from_slice(extra);
+        rheosph(&args)
+    };
+    assert!(study(&["--jobs", "2", "--out", here.to_str().unwrap()])
+        .status
+        .success());
+    let out = study(&["--emit", emit.to_str().unwrap()]);
+    assert!(out.status.success(), "{out:?}");
+    let members = std::fs::read_to_string(emit.join("members.txt")).unwrap();
+    let members: Vec<&str> = members.lines().collect();
+    assert_eq!(members, ["runs/Wi_0.5", "runs/Wi_2"]);
+    assert!(!emit.join("stability.csv").exists());
+    let slurm = std::fs::read_to_string(emit.join("job-array.slurm")).unwrap();
+    assert!(slurm.contains("#SBATCH --array=0-1"), "{slurm}");
+    // One member by hand, as a scheduler would run it; the other is missing.
+    let first = emit.join(members[0]);
+    let case = first.join("case.toml");
+    let ran = rheosph(&[
+        "run",
+        case.to_str().unwrap(),
+        "--out",
+        first.to_str().unwrap(),
+    ]);
+    assert!(ran.status.success(), "{ran:?}");
+    let stamp = std::fs::metadata(first.join("summary.json"))
+        .unwrap()
+        .modified()
+        .unwrap();
+    let out = study(&["--collect", emit.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        text.contains("1 of 2 members have not finished") && text.contains("Wi_2"),
+        "{text}"
+    );
+    let script = Command::new("bash")
+        .arg(emit.join("run-members.sh"))
+        .env("RHEOSPH", env!("CARGO_BIN_EXE_rheosph"))
+        .output()
+        .unwrap();
+    assert!(script.status.success(), "{script:?}");
+    let again = std::fs::metadata(first.join("summary.json"))
+        .unwrap()
+        .modified()
+        .unwrap();
+    assert_eq!(stamp, again, "a finished member was run again");
+    assert!(study(&["--collect", emit.to_str().unwrap()])
+        .status
+        .success());
+    let without_wall = |path: &Path| -> Vec<String> {
+        let text = std::fs::read_to_string(path).unwrap();
+        text.lines()
+            .map(|l| l.rsplit_once(',').unwrap().0.to_string())
+            .collect()
+    };
+    assert_eq!(
+        without_wall(&here.join("stability.csv")),
+        without_wall(&emit.join("stability.csv"))
+    );
+}

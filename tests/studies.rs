@@ -2,7 +2,7 @@
 //! a forced breakdown is a row of data, not a crash.
 
 use rheosph::app::plot::FigureFormat;
-use rheosph::app::study::{self, Base};
+use rheosph::app::study::{self, Base, Executor};
 use std::path::PathBuf;
 
 fn base(sets: &[&str]) -> Base {
@@ -10,6 +10,7 @@ fn base(sets: &[&str]) -> Base {
         path: PathBuf::from("cases/poiseuille.toml"),
         sets: sets.iter().map(|s| s.to_string()).collect(),
         reuse: false,
+        executor: Executor::Here,
     }
 }
 
@@ -127,6 +128,7 @@ fn cylinder_study_runs_coarse_to_fine() {
         .map(String::from)
         .to_vec(),
         reuse: false,
+        executor: Executor::Here,
     };
     let stage = study::cylinder::parse_stage("36:0.5").unwrap();
     let run_study = |base: &Base| {

@@ -2,8 +2,8 @@
 //! settings.
 
 use super::{
-    convergence, cylinder, parse_variant, parse_vary, speed_accuracy, stability, variants, Base,
-    Variant,
+    convergence, cylinder, members::Emitted, parse_variant, parse_vary, speed_accuracy, stability,
+    variants, Base, Executor, Variant,
 };
 use crate::app::cli::args::CaseArgs;
 use anyhow::Result;
@@ -44,8 +44,17 @@ pub struct StudyCommon {
     #[command(flatten)]
     pub case: CaseArgs,
     /// Output directory (default: runs/<study>-<case name>).
-    #[arg(long, value_name = "DIR")]
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["emit", "collect"])]
     pub out: Option<PathBuf>,
+    /// Run nothing: write each member's case into DIR/runs/<member>/case.toml, the list
+    /// DIR/members.txt and the scripts that run them elsewhere (DIR/job-array.slurm for a
+    /// Slurm job array, DIR/run-members.sh for `xargs` here); then `--collect DIR`.
+    #[arg(long, value_name = "DIR", conflicts_with = "collect")]
+    pub emit: Option<PathBuf>,
+    /// Run nothing: assemble the study in DIR from its finished members (run after
+    /// `--emit DIR` by any means), or list the members not finished.
+    #[arg(long, value_name = "DIR")]
+    pub collect: Option<PathBuf>,
     /// Runs executed concurrently (each with its share of the threads); results do not
     /// depend on it.
     #[arg(long, default_value_t = 1)]
@@ -111,11 +120,18 @@ fn base_and_out(common: &StudyCommon, study: &str) -> Result<(Base, PathBuf)> {
         path: common.case.case.clone(),
         sets: common.case.set.clone(),
         reuse: common.reuse,
+        executor: match (&common.emit, &common.collect) {
+            (Some(_), _) => Executor::Emit,
+            (_, Some(_)) => Executor::Collect,
+            _ => Executor::Here,
+        },
     };
     let case = base.case(&[])?;
     let out = common
         .out
         .clone()
+        .or_else(|| common.emit.clone())
+        .or_else(|| common.collect.clone())
         .unwrap_or_else(|| PathBuf::from("runs").join(format!("{study}-{}", case.name)));
     Ok((base, out))
 }
@@ -133,7 +149,18 @@ fn parse_variants(explicit: &[String], vary: &[String]) -> Result<Vec<Variant>> 
     Ok(variants(&explicit, &varies))
 }
 
+/// Runs the study (or, with `--emit`, writes its members and says how to run them).
 pub fn dispatch(command: StudyCommand, quiet: bool) -> Result<()> {
+    match run_study(command, quiet) {
+        Err(e) if e.is::<Emitted>() => {
+            eprintln!("{e}");
+            Ok(())
+        }
+        result => result,
+    }
+}
+
+fn run_study(command: StudyCommand, quiet: bool) -> Result<()> {
     match command {
         StudyCommand::Convergence(a) => {
             let (base, out) = base_and_out(&a.common, "convergence")?;

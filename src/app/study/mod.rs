@@ -12,6 +12,7 @@
 pub mod cli;
 pub mod convergence;
 pub mod cylinder;
+mod members;
 pub mod speed_accuracy;
 pub mod stability;
 
@@ -51,6 +52,20 @@ pub struct Base {
     /// is this run's case is read instead of run again (a long study resumed after an
     /// interruption; `--reuse`).
     pub reuse: bool,
+    /// Where the members run: here, or elsewhere (`--emit`, then `--collect`).
+    pub executor: Executor,
+}
+
+/// Where a study's members run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Executor {
+    /// In this process, `--jobs` at a time.
+    #[default]
+    Here,
+    /// Nowhere yet: write each member's case and the scripts that run them (`--emit`).
+    Emit,
+    /// Read the finished members; run none (`--collect`).
+    Collect,
 }
 
 impl Base {
@@ -195,12 +210,17 @@ pub fn run_all(
         .map(|v| base.case(&v.overrides))
         .collect::<Result<_, _>>()?;
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    match base.executor {
+        Executor::Here => {}
+        Executor::Emit => return Err(members::emit(&variants, &cases, out)?.into()),
+        Executor::Collect => return members::collect(variants, cases, out),
+    }
     let jobs = jobs.clamp(1, variants.len().max(1));
     let threads = (rayon::current_num_threads() / jobs).max(1);
     let total = variants.len();
     let done = AtomicUsize::new(0);
     let run_one = |(variant, case): (Variant, Case)| -> Result<Finished> {
-        let dir = out.join("runs").join(slug(&variant.label));
+        let dir = member_dir(out, &variant);
         if base.reuse {
             if let Some(summary) = finished_run(&dir, &case) {
                 let series = crate::app::io::read_series(&dir.join("series.csv"))?;
@@ -292,6 +312,11 @@ pub fn run_all(
                 .unwrap_or_else(|| Err(anyhow::anyhow!("a study run did not report")))
         })
         .collect()
+}
+
+/// The directory of a member's run.
+fn member_dir(out: &Path, variant: &Variant) -> PathBuf {
+    out.join("runs").join(slug(&variant.label))
 }
 
 /// The summary of the finished run of `case` in `dir`, if there is one.

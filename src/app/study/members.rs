@@ -1,0 +1,150 @@
+//! A study's members run elsewhere: `--emit DIR` writes each member's case file into its run
+//! directory and the scripts that run them (a Slurm job array, a plain `xargs` line);
+//! `--collect DIR` reads the finished members back and assembles the study as if it had run
+//! them itself. A member is finished when its directory holds a `summary.json` and the
+//! `case.toml` the run wrote equals the member's case, the same test as `--reuse`, so a
+//! member run by hand, by a scheduler or by `--jobs` counts alike.
+
+use super::{finished_run, member_dir, Finished, Variant};
+use crate::app::io::write_atomic;
+use crate::app::run::CASE_FILE;
+use crate::setup::case::Case;
+use anyhow::{bail, Context, Result};
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// The member list, one run directory per line (relative to the study's directory).
+pub const MEMBERS: &str = "members.txt";
+
+/// What `--emit` wrote: not an error, but the study stops there (nothing to assemble yet).
+#[derive(Debug)]
+pub struct Emitted {
+    pub members: usize,
+    pub dir: String,
+}
+
+impl std::fmt::Display for Emitted {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{n} members written to {d}/{MEMBERS}; run them with {d}/run-members.sh (here, \
+             `--jobs` at a time) or `sbatch {d}/job-array.slurm`, then repeat the study's \
+             command with `--collect {d}`",
+            n = self.members,
+            d = self.dir
+        )
+    }
+}
+
+impl std::error::Error for Emitted {}
+
+/// Writes each member's `case.toml` and the scripts that run them.
+pub fn emit(variants: &[Variant], cases: &[Case], out: &Path) -> Result<Emitted> {
+    let mut list = String::new();
+    for (variant, case) in variants.iter().zip(cases) {
+        if let Some(from) = &variant.from {
+            bail!(
+                "--emit: member `{}` starts from another member's state ({}); grid sequencing \
+                 (--sequence) runs its stages in order, so run this study here with --jobs",
+                variant.label,
+                from.display()
+            );
+        }
+        let dir = member_dir(out, variant);
+        std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
+        write_atomic(
+            &dir.join(CASE_FILE),
+            toml::to_string(&case.source)?.as_bytes(),
+        )?;
+        let relative = dir.strip_prefix(out).unwrap_or(&dir);
+        let _ = writeln!(list, "{}", relative.display());
+    }
+    write_atomic(&out.join(MEMBERS), list.as_bytes())?;
+    write_script(&out.join("run-members.sh"), &local_script())?;
+    write_script(&out.join("job-array.slurm"), &slurm_script(variants.len()))?;
+    Ok(Emitted {
+        members: variants.len(),
+        dir: out.display().to_string(),
+    })
+}
+
+/// One member's command, `$RHEOSPH` being the program (default `rheosph` on the PATH).
+/// A member that holds a `summary.json` has finished (or broken down, which is a result too)
+/// and is skipped, so a rerun after a lost member runs only what is missing.
+const MEMBER: &str = "[ -e \"$m/summary.json\" ] || \"$RHEOSPH\" run \"$m/case.toml\" --out \"$m\" --no-snapshots --no-charts";
+
+fn local_script() -> String {
+    format!(
+        "#!/usr/bin/env bash\n\
+         # Runs every member of this study not yet finished, JOBS at a time (default 2).\n\
+         #   RHEOSPH=path/to/rheosph JOBS=4 ./run-members.sh\n\
+         set -euo pipefail\n\
+         cd \"$(dirname \"$0\")\"\n\
+         export RHEOSPH=\"${{RHEOSPH:-rheosph}}\"\n\
+         xargs -P \"${{JOBS:-2}}\" -I{{}} sh -c 'm=\"$1\"; {member} > \"$m/log.txt\" 2>&1 || echo \"member $m: exit $?\"' _ {{}} < {MEMBERS}\n",
+        member = MEMBER
+    )
+}
+
+fn slurm_script(n: usize) -> String {
+    format!(
+        "#!/usr/bin/env bash\n\
+         # One array task per member of this study (line k + 1 of {MEMBERS}).\n\
+         #   sbatch job-array.slurm        (from this directory; set RHEOSPH if needed)\n\
+         #SBATCH --job-name=rheosph-study\n\
+         #SBATCH --array=0-{last}\n\
+         #SBATCH --cpus-per-task=2\n\
+         #SBATCH --output=slurm-%A_%a.out\n\
+         set -euo pipefail\n\
+         cd \"${{SLURM_SUBMIT_DIR:-$(dirname \"$0\")}}\"\n\
+         RHEOSPH=\"${{RHEOSPH:-rheosph}}\"\n\
+         export RAYON_NUM_THREADS=\"${{SLURM_CPUS_PER_TASK:-1}}\"\n\
+         m=$(sed -n \"$((SLURM_ARRAY_TASK_ID + 1))p\" {MEMBERS})\n\
+         {member}\n",
+        last = n.saturating_sub(1),
+        member = MEMBER
+    )
+}
+
+fn write_script(path: &Path, text: &str) -> Result<()> {
+    write_atomic(path, text.as_bytes())?;
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(path, std::fs::Permissions::from_mode(0o755))
+            .with_context(|| format!("making {} executable", path.display()))?;
+    }
+    Ok(())
+}
+
+/// Every member's finished run, or an error listing the members not finished.
+pub fn collect(variants: Vec<Variant>, cases: Vec<Case>, out: &Path) -> Result<Vec<Finished>> {
+    let mut finished = Vec::new();
+    let mut missing = Vec::new();
+    for (variant, case) in variants.into_iter().zip(cases) {
+        let dir = member_dir(out, &variant);
+        match finished_run(&dir, &case) {
+            Some(summary) => {
+                let series = crate::app::io::read_series(&dir.join("series.csv"))?;
+                finished.push(Finished {
+                    variant,
+                    case,
+                    summary,
+                    series,
+                    dir,
+                });
+            }
+            None => missing.push(dir.display().to_string()),
+        }
+    }
+    if !missing.is_empty() {
+        bail!(
+            "--collect: {} of {} members have not finished (no summary.json, or a case.toml \
+             that is not this study's):\n  {}",
+            missing.len(),
+            missing.len() + finished.len(),
+            missing.join("\n  ")
+        );
+    }
+    Ok(finished)
+}
