@@ -13,6 +13,7 @@ numpy arrays.
 
 from __future__ import annotations
 
+import concurrent.futures
 import csv
 import json
 import os
@@ -30,6 +31,8 @@ __all__ = [
     "CaseError",
     "Grid",
     "Result",
+    "Simulation",
+    "StudyIncomplete",
     "load_case",
     "open_run",
     "rheometry",
@@ -235,6 +238,97 @@ def run(
     return Result(out, code)
 
 
+class Simulation:
+    """A live simulation: the command line's run loop, stepped from Python.
+
+    ``sim = Simulation("cases/poiseuille.toml", out="runs/live", overrides={...})`` sets the
+    case up and writes the first series row; ``sim.step()`` takes one step,
+    ``sim.advance(t)`` steps until the time reaches ``t`` (Ctrl-C stops between two steps,
+    leaving the simulation usable). ``sim.t``, ``sim.dt``, ``sim.steps``; ``sim.particles()``
+    the fields now as numpy arrays; ``sim.checkpoint()`` then ``Simulation.resume(out)``
+    continue bit for bit; ``sim.finish()`` writes the final files and returns the
+    :class:`Result`. Steps and outputs are the command line's own: stepped to its end time,
+    the run directory holds the same numbers as ``rheosph run``."""
+
+    def __init__(
+        self,
+        case: CaseLike,
+        out: Optional[Union[str, os.PathLike]] = None,
+        overrides=None,
+        snapshots: bool = False,
+        _native_run: Any = None,
+    ):
+        if _native_run is not None:
+            self._run, self.path = _native_run, Path(out)
+            return
+        c = load_case(case, overrides)
+        self.path = Path(out) if out is not None else Path("runs") / c.name
+        self._run = _native.LiveRun(
+            c.text, c.file, c.name, list(c.overrides), str(self.path), snapshots
+        )
+
+    @classmethod
+    def resume(cls, out: Union[str, os.PathLike], snapshots: bool = False) -> "Simulation":
+        """The simulation checkpointed in ``out`` (by ``checkpoint()`` or a run's cadence)."""
+        return cls(None, out, _native_run=_native.LiveRun.resume(str(out), snapshots))
+
+    def step(self) -> bool:
+        """One step; False once the run is at its end time or has broken down."""
+        return self._run.step()
+
+    def advance(
+        self, t: float, progress: Optional[Callable[[float, float], Any]] = None
+    ) -> bool:
+        """Steps until the time reaches ``t`` (whole steps: the last may pass it), the end
+        time or a breakdown; ``progress(t_now, t)`` after every step. False once over."""
+        return self._run.advance(t, progress)
+
+    @property
+    def t(self) -> float:
+        return self._run.t
+
+    @property
+    def dt(self) -> float:
+        """The last step's size (0 before the first)."""
+        return self._run.dt
+
+    @property
+    def steps(self) -> int:
+        return self._run.steps
+
+    @property
+    def end_time(self) -> float:
+        return self._run.end_time
+
+    @property
+    def breakdown(self) -> Optional[str]:
+        """Why the run broke down, or None."""
+        return self._run.breakdown
+
+    def particles(self) -> dict[str, np.ndarray]:
+        """The particles now: x, y, u, v, pressure, vorticity, tau_xx, tau_xy, tau_yy,
+        trace_A, det_A and, for a viscoelastic fluid, A_xx, A_xy, A_yy."""
+        return {
+            name: np.frombuffer(data, dtype="<f8").copy() for name, data in self._run.particles()
+        }
+
+    def set_body_force(self, fx: float, fy: float) -> None:
+        """The body force per unit mass for the steps that follow (a case's
+        ``scene.body_force``)."""
+        self._run.set_body_force(float(fx), float(fy))
+
+    def checkpoint(self) -> None:
+        """Writes ``checkpoint.bin`` in the run directory now."""
+        self._run.checkpoint()
+
+    def finish(self) -> "Result":
+        """Writes the final files (series, profile, charts, summary.json) and ends the
+        simulation. A simulation stopped before its end time is recorded as finished at the
+        time it reached."""
+        code = self._run.finish()
+        return Result(self.path, 0 if code == 4 else code)
+
+
 def _cli(argv: list[str]) -> int:
     code = _native.cli(["rheosph", "--quiet", *argv])
     if code not in (0, 3):
@@ -242,11 +336,39 @@ def _cli(argv: list[str]) -> int:
     return code
 
 
+class StudyIncomplete(RuntimeError):
+    """Members of a study that did not finish on its executor (an exception, a lost worker).
+
+    ``failed`` maps each member's run directory (relative to the study's) to what went wrong.
+    Calling :func:`study` again with the same arguments and ``out`` runs only these: finished
+    members are read back, not rerun."""
+
+    def __init__(self, out: str, failed: dict[str, str]):
+        self.out = out
+        self.failed = failed
+        lines = "\n  ".join(f"{m}: {why}" for m, why in sorted(failed.items()))
+        super().__init__(
+            f"{len(failed)} members of the study in {out} did not finish:\n  {lines}\n"
+            "call study() again with the same arguments to run only these"
+        )
+
+
+def _run_member(directory: str) -> int:
+    """Runs one emitted member (its ``case.toml``) into its own directory, unless finished.
+
+    Top level, so that process pools and cluster executors can pickle it."""
+    d = Path(directory)
+    if (d / "summary.json").exists():
+        return 0
+    return _cli(["run", str(d / "case.toml"), "--out", str(d), "--no-snapshots", "--no-charts"])
+
+
 def study(
     kind: str,
     case: Union[str, os.PathLike],
     out: Union[str, os.PathLike],
     overrides=None,
+    executor: Optional["concurrent.futures.Executor"] = None,
     **options: Any,
 ) -> dict[str, np.ndarray]:
     """Runs a study as `rheosph study <kind>` does and returns its table as arrays.
@@ -254,8 +376,16 @@ def study(
     kind: "convergence", "stability", "speed-accuracy" or "cylinder"; options are the
     command's flags with underscores, lists for comma lists, e.g.
     ``study("convergence", "cases/poiseuille.toml", "runs/conv", resolutions=[15, 30])``;
-    ``vary={"scheme.viscosity": ["explicit", "implicit"]}`` for --vary."""
-    argv = ["study", kind, str(case), "--out", str(out)]
+    ``vary={"scheme.viscosity": ["explicit", "implicit"]}`` for --vary.
+
+    executor: any :class:`concurrent.futures.Executor` (a process pool, dask.distributed's
+    ``Client.get_executor()``, ``mpi4py.futures.MPIPoolExecutor``, submitit's executor). The
+    study's members are written first (``--emit``), each is run where the executor puts it,
+    then the table and charts are assembled from them (``--collect``), with the same numbers
+    as a study run here. A member that raises or is lost is reported in
+    :class:`StudyIncomplete`; calling again completes only what is missing. Without an
+    executor the study runs in this process (``jobs=N`` runs N members at a time)."""
+    argv = ["study", kind, str(case)]
     for o in _overrides(overrides):
         argv += ["--set", o]
     for key, value in options.items():
@@ -269,7 +399,10 @@ def study(
             argv += [flag, ",".join(str(v) for v in value)]
         else:
             argv += [flag, str(value)]
-    _cli(argv)
+    if executor is None:
+        _cli(argv + ["--out", str(out)])
+    else:
+        _run_elsewhere(argv, Path(out), executor)
     table = {
         "convergence": "convergence.csv",
         "stability": "stability.csv",
@@ -277,6 +410,22 @@ def study(
         "cylinder": "cylinder.csv",
     }.get(kind)
     return _read_csv(Path(out) / table) if table else {}
+
+
+def _run_elsewhere(argv: list[str], out: Path, executor: Any) -> None:
+    """Emits the study's members, runs each on `executor`, and collects the study."""
+    _cli(argv + ["--emit", str(out)])
+    members = (out / "members.txt").read_text().split()
+    futures = {m: executor.submit(_run_member, str(out / m)) for m in members}
+    failed: dict[str, str] = {}
+    for member, future in futures.items():
+        try:
+            future.result()
+        except Exception as e:  # a lost worker surfaces here as the executor's own error
+            failed[member] = f"{type(e).__name__}: {e}"
+    if failed:
+        raise StudyIncomplete(str(out), failed)
+    _cli(argv + ["--collect", str(out)])
 
 
 def rheometry(

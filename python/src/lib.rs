@@ -8,6 +8,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 use rheosph::analysis::grid;
 use rheosph::app::plot::FigureFormat;
+use rheosph::app::run::run_loop::{Run, Start};
 use rheosph::app::run::{self as runs, checkpoint, ProgressHook, RunOptions, CASE_FILE};
 use rheosph::engine::step::Simulation;
 use rheosph::setup::case::{self, Case};
@@ -186,6 +187,187 @@ fn grid_fields(
     ))
 }
 
+fn over() -> PyErr {
+    PyRuntimeError::new_err("the simulation's outputs are written; it is over")
+}
+
+/// A live simulation: the command line's run loop (`Run`), stepped from Python one step at
+/// a time. Every step and every output is the command line's own, so a simulation stepped
+/// to the end writes the same files, bit for bit, as `rheosph run`.
+#[pyclass(unsendable, module = "rheosph._native")]
+struct LiveRun {
+    /// None once the outputs have been written.
+    run: Option<Run>,
+    /// The steps run on a worker of this pool, as the command line's do
+    /// (`runs::on_pool_worker`): a parallel loop started from a worker does not sleep on a
+    /// lock while the pool works.
+    pool: rayon::ThreadPool,
+}
+
+impl LiveRun {
+    fn run(&mut self) -> PyResult<&mut Run> {
+        self.run.as_mut().ok_or_else(over)
+    }
+
+    fn with_pool(run: Run) -> PyResult<Self> {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .build()
+            .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+        Ok(Self {
+            run: Some(run),
+            pool,
+        })
+    }
+
+    /// One step on the pool, without the GIL.
+    fn step_once(&mut self, py: Python<'_>) -> PyResult<bool> {
+        let pool = &self.pool;
+        let run = self.run.as_mut().ok_or_else(over)?;
+        py.detach(|| pool.install(|| run.step()))
+            .map_err(runtime_error)
+    }
+
+    fn options(out: PathBuf, snapshots: bool) -> RunOptions {
+        RunOptions {
+            out_dir: out,
+            quiet: true,
+            charts: Some(FigureFormat::Png),
+            snapshots,
+            progress: None,
+        }
+    }
+}
+
+#[pymethods]
+impl LiveRun {
+    #[new]
+    #[pyo3(signature = (text, file, name, overrides, out, snapshots=false))]
+    fn new(
+        text: &str,
+        file: &str,
+        name: &str,
+        overrides: Vec<String>,
+        out: PathBuf,
+        snapshots: bool,
+    ) -> PyResult<Self> {
+        let case = case::parse(text, file, name, &overrides).map_err(case_error)?;
+        let options = Self::options(out, snapshots);
+        let run = Run::new(&case, &options, Start::Fresh).map_err(runtime_error)?;
+        Self::with_pool(run)
+    }
+
+    /// The simulation checkpointed in `out` (`checkpoint.bin` and its `case.toml`).
+    #[staticmethod]
+    #[pyo3(signature = (out, snapshots=false))]
+    fn resume(out: PathBuf, snapshots: bool) -> PyResult<Self> {
+        let options = Self::options(out, snapshots);
+        let (case, start) = runs::resumed(&options).map_err(runtime_error)?;
+        let run = Run::new(&case, &options, start).map_err(runtime_error)?;
+        Self::with_pool(run)
+    }
+
+    /// One step; false when the run is at its end time or has broken down.
+    fn step(&mut self, py: Python<'_>) -> PyResult<bool> {
+        self.step_once(py)
+    }
+
+    /// Steps until the time reaches `t` (whole steps of the run's own size, so the last one
+    /// may pass it), the end time or a breakdown; Ctrl-C stops between two steps.
+    /// `progress(t, target)` is called after every step. False once the run is over.
+    #[pyo3(signature = (t, progress=None))]
+    fn advance(&mut self, py: Python<'_>, t: f64, progress: Option<Py<PyAny>>) -> PyResult<bool> {
+        while self.run()?.sim.state.time < t {
+            if !self.step_once(py)? {
+                return Ok(false);
+            }
+            py.check_signals()?;
+            if let Some(callback) = &progress {
+                callback.call1(py, (self.run()?.sim.state.time, t))?;
+            }
+        }
+        Ok(true)
+    }
+
+    #[getter]
+    fn t(&mut self) -> PyResult<f64> {
+        Ok(self.run()?.sim.state.time)
+    }
+
+    #[getter]
+    fn dt(&mut self) -> PyResult<f64> {
+        Ok(self.run()?.last_dt())
+    }
+
+    #[getter]
+    fn steps(&mut self) -> PyResult<u64> {
+        Ok(self.run()?.sim.state.steps)
+    }
+
+    #[getter]
+    fn end_time(&mut self) -> PyResult<f64> {
+        Ok(self.run()?.end_time())
+    }
+
+    #[getter]
+    fn breakdown(&mut self) -> PyResult<Option<String>> {
+        Ok(self.run()?.breakdown().map(str::to_string))
+    }
+
+    /// The particles now: (name, little-endian f64 bytes) of x, y, the fields of the
+    /// snapshots and the conformation's components.
+    fn particles(&mut self, py: Python<'_>) -> PyResult<Vec<(String, Py<PyBytes>)>> {
+        let sim = &self.run()?.sim;
+        let s = &sim.state;
+        let mut fields: Vec<(&str, Vec<f64>)> = vec![
+            ("x", s.position.iter().map(|p| p.x).collect()),
+            ("y", s.position.iter().map(|p| p.y).collect()),
+        ];
+        fields.extend(grid::particle_fields(sim));
+        if !s.conformation.is_empty() {
+            fields.push(("A_xx", s.conformation.iter().map(|a| a.xx).collect()));
+            fields.push(("A_xy", s.conformation.iter().map(|a| a.xy).collect()));
+            fields.push(("A_yy", s.conformation.iter().map(|a| a.yy).collect()));
+        }
+        Ok(fields
+            .iter()
+            .map(|(n, v)| (n.to_string(), f64_bytes(py, v).unbind()))
+            .collect())
+    }
+
+    /// Sets the body force (per unit mass) for the steps that follow.
+    fn set_body_force(&mut self, fx: f64, fy: f64) -> PyResult<()> {
+        if !(fx.is_finite() && fy.is_finite()) {
+            return Err(CaseError::new_err(format!(
+                "scene.body_force: must be finite, got [{fx}, {fy}]"
+            )));
+        }
+        let run = self.run()?;
+        run.sim.state.body_force = rheosph::engine::math::Vec2::new(fx, fy);
+        Ok(())
+    }
+
+    /// Writes `checkpoint.bin` now; `LiveRun.resume(out)` continues from it.
+    fn checkpoint(&mut self) -> PyResult<()> {
+        self.run()?.checkpoint().map_err(runtime_error)
+    }
+
+    /// Writes the run's final files (series, profile, charts, summary.json) and ends it:
+    /// 0 if it reached its end time, 3 if it broke down, 4 if it stopped before either.
+    fn finish(&mut self) -> PyResult<u8> {
+        let run = self
+            .run
+            .take()
+            .ok_or_else(|| PyRuntimeError::new_err("already finished"))?;
+        let over = run.breakdown().is_some() || run.sim.state.time >= run.end_time();
+        let summary = run.finish().map_err(runtime_error)?;
+        Ok(match (summary.outcome, over) {
+            (runs::Outcome::BrokeDown, _) => 3,
+            (_, true) => 0,
+            (_, false) => 4,
+        })
+    }
+}
+
 /// Runs the command line in this process (`argv[0]` is the program name): studies,
 /// rheometry, anything `rheosph` does. Returns its exit code; bad arguments raise ValueError
 /// with clap's message.
@@ -206,5 +388,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(particles, m)?)?;
     m.add_function(wrap_pyfunction!(grid_fields, m)?)?;
     m.add_function(wrap_pyfunction!(cli, m)?)?;
+    m.add_class::<LiveRun>()?;
     Ok(())
 }

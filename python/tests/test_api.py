@@ -3,9 +3,13 @@
 Run from the checkout root: python -m unittest discover -s python/tests
 """
 
+import concurrent.futures
 import json
+import multiprocessing
+import shutil
 import tempfile
 import unittest
+from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
 
 import numpy as np
@@ -162,6 +166,106 @@ class RheometryAndStudyTest(unittest.TestCase):
             # Refinement reduces the error (first-order at least at these resolutions).
             self.assertLess(table["l2_mean"][1], table["l2_mean"][0])
             self.assertTrue((Path(tmp) / "conv" / "l2_vs_resolution.png").exists())
+
+
+class _Inline(concurrent.futures.Executor):
+    """Runs each call at once in this process; loses the calls numbered in `lose` as a
+    killed worker would (the executor's BrokenProcessPool)."""
+
+    def __init__(self, lose=()):
+        self.lose, self.calls = set(lose), 0
+
+    def submit(self, fn, /, *args, **kwargs):
+        future = concurrent.futures.Future()
+        self.calls += 1
+        if self.calls in self.lose:
+            future.set_exception(BrokenProcessPool("a worker was killed"))
+        else:
+            future.set_result(fn(*args, **kwargs))
+        return future
+
+
+class StudyExecutorTest(unittest.TestCase):
+    ARGS = dict(overrides={"run.end_time": 0.5, "scene.resolution": 12}, wi=[0.5, 2])
+
+    def assert_same_table(self, a, b):
+        self.assertEqual(sorted(a), sorted(b))
+        for column in a:
+            if column != "wall_seconds":
+                np.testing.assert_array_equal(a[column], b[column], err_msg=column)
+
+    def test_a_process_pool_gives_the_study_run_here(self):
+        spawn = multiprocessing.get_context("spawn")
+        with tempfile.TemporaryDirectory() as tmp:
+            here = rheosph.study("stability", POISEUILLE, Path(tmp) / "here", **self.ARGS)
+            with concurrent.futures.ProcessPoolExecutor(2, mp_context=spawn) as pool:
+                there = rheosph.study(
+                    "stability", POISEUILLE, Path(tmp) / "pool", executor=pool, **self.ARGS
+                )
+            self.assert_same_table(here, there)
+
+    def test_a_lost_member_is_reported_and_completed_without_rerunning_the_rest(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            out = Path(tmp) / "s"
+            with self.assertRaises(rheosph.StudyIncomplete) as lost:
+                rheosph.study("stability", POISEUILLE, out, executor=_Inline(lose={2}), **self.ARGS)
+            self.assertEqual(list(lost.exception.failed), ["runs/Wi_2"])
+            self.assertIn("BrokenProcessPool", lost.exception.failed["runs/Wi_2"])
+            first = out / "runs" / "Wi_0.5" / "summary.json"
+            stamp = first.stat().st_mtime_ns
+            table = rheosph.study("stability", POISEUILLE, out, executor=_Inline(), **self.ARGS)
+            self.assertEqual(first.stat().st_mtime_ns, stamp, "a finished member was rerun")
+            here = rheosph.study("stability", POISEUILLE, Path(tmp) / "here", **self.ARGS)
+            self.assert_same_table(here, table)
+
+
+class SimulationTest(unittest.TestCase):
+    def series(self, path):
+        return (Path(path) / "series.csv").read_text()
+
+    def test_stepped_from_python_it_writes_the_command_lines_series(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            cli = rheosph.run(POISEUILLE, Path(tmp) / "cli", overrides=QUICK)
+            sim = rheosph.Simulation(POISEUILLE, Path(tmp) / "py", overrides=QUICK)
+            steps = 0
+            while sim.step():
+                steps += 1
+            self.assertEqual(steps, sim.steps)
+            self.assertGreater(steps, 100)
+            fields = sim.particles()
+            self.assertEqual(len(fields["x"]), 144)
+            self.assertTrue(np.all(fields["det_A"] >= 1.0 - 1e-9))
+            self.assertIn("A_xy", fields)
+            result = sim.finish()
+            self.assertEqual(result.outcome, "finished")
+            self.assertEqual(self.series(cli.path), self.series(result.path))
+
+    def test_a_checkpoint_resumes_bit_for_bit(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            a = rheosph.Simulation(POISEUILLE, Path(tmp) / "a", overrides=QUICK)
+            self.assertTrue(a.advance(0.1))
+            self.assertGreaterEqual(a.t, 0.1)
+            a.checkpoint()
+            shutil.copytree(Path(tmp) / "a", Path(tmp) / "b")
+            seen = []
+            self.assertFalse(a.advance(1e9, progress=lambda t, target: seen.append(t)))
+            self.assertGreater(len(seen), 10)
+            a.finish()
+            b = rheosph.Simulation.resume(Path(tmp) / "b")
+            b.advance(1e9)
+            b.finish()
+            self.assertEqual(self.series(Path(tmp) / "a"), self.series(Path(tmp) / "b"))
+
+    def test_a_body_force_is_validated_like_a_case_key(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            sim = rheosph.Simulation(POISEUILLE, Path(tmp) / "s", overrides=QUICK)
+            with self.assertRaises(rheosph.CaseError) as bad:
+                sim.set_body_force(float("nan"), 0.0)
+            self.assertIn("scene.body_force", str(bad.exception))
+            sim.set_body_force(0.0, 0.0)
+            sim.advance(0.05)
+            # Without the driving force the fluid at rest stays at rest.
+            self.assertLess(np.abs(sim.particles()["u"]).max(), 1e-9)
 
 
 if __name__ == "__main__":

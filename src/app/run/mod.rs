@@ -118,6 +118,12 @@ fn stored_case(dir: &Path) -> Result<Case> {
 /// case as run in `case.toml`). The continued run writes what the uninterrupted one would
 /// have: the series is cut back to the checkpoint and extended bit for bit.
 pub fn resume(options: &RunOptions) -> Result<Summary> {
+    let (case, start) = resumed(options)?;
+    run_from(&case, options, start)
+}
+
+/// The case and the start of the run in `options.out_dir`, from its last checkpoint.
+pub fn resumed(options: &RunOptions) -> Result<(Case, Start)> {
     let dir = &options.out_dir;
     let (state, bytes) = checkpoint::load(dir)?;
     let text = std::fs::read_to_string(dir.join(CASE_FILE))
@@ -136,11 +142,7 @@ pub fn resume(options: &RunOptions) -> Result<Summary> {
         .into_iter()
         .filter(|r| r.step <= sim.state.steps)
         .collect();
-    run_from(
-        &case,
-        options,
-        Start::Resumed(Box::new(Resumed { sim, state, rows })),
-    )
+    Ok((case, Start::Resumed(Box::new(Resumed { sim, state, rows }))))
 }
 
 fn run_from(case: &Case, options: &RunOptions, start: Start) -> Result<Summary> {

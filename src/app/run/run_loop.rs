@@ -22,10 +22,10 @@ use std::time::{Duration, Instant};
 /// Series rows are flushed to disk at most this often (and at the end).
 const FLUSH_INTERVAL: Duration = Duration::from_secs(2);
 
-/// A run in progress.
-pub struct Run<'a> {
-    case: &'a Case,
-    options: &'a RunOptions,
+/// A run in progress (the command line's loop, or a simulation stepped from Python).
+pub struct Run {
+    case: Case,
+    options: RunOptions,
     pub sim: Simulation,
     reference: Result<Reference, String>,
     rows: Vec<SeriesRow>,
@@ -62,9 +62,9 @@ pub struct Resumed {
     pub rows: Vec<SeriesRow>,
 }
 
-impl<'a> Run<'a> {
+impl Run {
     /// Prepares the run directory and the run's state (fresh, or from a checkpoint).
-    pub fn new(case: &'a Case, options: &'a RunOptions, start: Start) -> Result<Self> {
+    pub fn new(case: &Case, options: &RunOptions, start: Start) -> Result<Self> {
         let dir = &options.out_dir;
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
         let reference = match (case.scene.reference(&case.fluid), &start) {
@@ -87,8 +87,8 @@ impl<'a> Run<'a> {
             None
         };
         let mut run = Self {
-            case,
-            options,
+            case: case.clone(),
+            options: options.clone(),
             sim,
             reference,
             rows: Vec::new(),
@@ -149,46 +149,69 @@ impl<'a> Run<'a> {
 
     /// Steps to the end time or a breakdown, writing at the cadence's times.
     pub fn time_loop(&mut self) -> Result<()> {
-        while self.cadence.running(self.sim.state.time) {
-            let dt_max = step_limit(
-                &self.sim,
-                self.cadence.end_time - self.sim.state.time,
-                self.last_dt,
-            );
-            match self.sim.step(dt_max) {
-                Ok(report) => {
-                    self.last_dt = report.dt;
-                    self.window.add(&report);
-                    self.totals.add(&report);
-                }
-                Err(b) => {
-                    self.breakdown = Some(b.reason);
-                    break;
-                }
-            }
-            let t = self.sim.state.time;
-            if self.cadence.output_due(t) {
-                self.record();
-                if let Some(end) = self.probes.end_time(&mut self.sim, &self.rows) {
-                    self.cadence.end_by(end);
-                }
-                self.snapshot(false)?;
-                self.checkpoint_if_due()?;
-                self.progress
-                    .set_position((1000.0 * t / self.case.end_time) as u64);
-                self.progress.set_message(format!("t = {t:.3}"));
-                if let Some(hook) = &self.options.progress {
-                    (hook.0)(t, self.cadence.end_time);
-                }
-                if self.last_flush.elapsed() >= FLUSH_INTERVAL {
-                    self.flush()?;
-                }
-            }
-        }
-        if self.breakdown.is_some() && self.window.steps > 0 {
-            self.record();
-        }
+        while self.step()? {}
         Ok(())
+    }
+
+    /// One step, and the outputs due after it; false once the run has reached its end time
+    /// or broken down (the step is then not taken, or its breakdown recorded).
+    pub fn step(&mut self) -> Result<bool> {
+        if self.breakdown.is_some() || !self.cadence.running(self.sim.state.time) {
+            return Ok(false);
+        }
+        let dt_max = step_limit(
+            &self.sim,
+            self.cadence.end_time - self.sim.state.time,
+            self.last_dt,
+        );
+        match self.sim.step(dt_max) {
+            Ok(report) => {
+                self.last_dt = report.dt;
+                self.window.add(&report);
+                self.totals.add(&report);
+            }
+            Err(b) => {
+                self.breakdown = Some(b.reason);
+                if self.window.steps > 0 {
+                    self.record();
+                }
+                return Ok(false);
+            }
+        }
+        let t = self.sim.state.time;
+        if self.cadence.output_due(t) {
+            self.record();
+            if let Some(end) = self.probes.end_time(&mut self.sim, &self.rows) {
+                self.cadence.end_by(end);
+            }
+            self.snapshot(false)?;
+            self.checkpoint_if_due()?;
+            self.progress
+                .set_position((1000.0 * t / self.case.end_time) as u64);
+            self.progress.set_message(format!("t = {t:.3}"));
+            if let Some(hook) = &self.options.progress {
+                (hook.0)(t, self.cadence.end_time);
+            }
+            if self.last_flush.elapsed() >= FLUSH_INTERVAL {
+                self.flush()?;
+            }
+        }
+        Ok(true)
+    }
+
+    /// The last step's δt (0 before the first).
+    pub fn last_dt(&self) -> f64 {
+        self.last_dt
+    }
+
+    /// The run's end time (a probe may have brought it forward).
+    pub fn end_time(&self) -> f64 {
+        self.cadence.end_time
+    }
+
+    /// Why the run broke down, if it did.
+    pub fn breakdown(&self) -> Option<&str> {
+        self.breakdown.as_deref()
     }
 
     /// Appends the series row of the current state, with the probes' records.
@@ -251,6 +274,16 @@ impl<'a> Run<'a> {
         if self.sim.inflow.is_some() || !self.cadence.checkpoint_due(self.sim.state.time) {
             return Ok(());
         }
+        self.checkpoint()
+    }
+
+    /// Writes `checkpoint.bin` (and the series so far) now: [`super::resumed`] continues from
+    /// it bit for bit.
+    pub fn checkpoint(&mut self) -> Result<()> {
+        anyhow::ensure!(
+            self.sim.inflow.is_none(),
+            "a jet cannot be checkpointed: its particle count grows"
+        );
         let t0 = Instant::now();
         self.write_series()?;
         let state = LoopState {

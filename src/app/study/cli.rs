@@ -153,7 +153,9 @@ fn parse_variants(explicit: &[String], vary: &[String]) -> Result<Vec<Variant>> 
 pub fn dispatch(command: StudyCommand, quiet: bool) -> Result<()> {
     match run_study(command, quiet) {
         Err(e) if e.is::<Emitted>() => {
-            eprintln!("{e}");
+            if !quiet {
+                eprintln!("{e}");
+            }
             Ok(())
         }
         result => result,

@@ -23,7 +23,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 /// Something a run records at every output time.
-pub trait Probe {
+pub trait Probe: Send {
     /// Its name: the key of its entry in `summary.json` and in checkpoints.
     fn name(&self) -> &'static str;
     /// Fills its own columns of the series row of the current state.

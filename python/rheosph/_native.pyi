@@ -1,0 +1,42 @@
+"""The compiled part of rheosph (a pyo3 extension); use the functions of ``rheosph`` instead."""
+
+from os import PathLike
+from typing import Callable, Optional, Union
+
+_Path = Union[str, PathLike[str]]
+
+class CaseError(ValueError):
+    """A case that does not validate; the message is the command line's one line."""
+
+def toml_from_json(json: str) -> str:
+    """A case given as a JSON object, written as TOML."""
+
+def check(text: str, file: str, name: str, overrides: list[str]) -> str:
+    """Validates a case (TOML text) with `key=value` overrides; its derived values as JSON."""
+
+def run(
+    text: str,
+    file: str,
+    name: str,
+    overrides: list[str],
+    out: _Path,
+    progress: Optional[Callable[[float, float], object]] = None,
+    figure_format: Optional[str] = None,
+    snapshots: bool = False,
+    from_dir: Optional[_Path] = None,
+) -> int:
+    """Runs a case into `out`: 0 finished, 3 broke down (a result, recorded in summary.json)."""
+
+def particles(run_dir: _Path) -> list[tuple[str, bytes]]:
+    """The final state's particle fields: (name, little-endian f64 bytes) pairs."""
+
+def grid_fields(
+    run_dir: _Path, spacing: Optional[float] = None
+) -> tuple[
+    tuple[float, float], tuple[float, float], tuple[int, int], list[tuple[str, bytes]]
+]:
+    """The final state on a regular grid: (origin, spacing, dims, fields); spacing defaults
+    to the particle spacing."""
+
+def cli(argv: list[str]) -> int:
+    """Runs the command line with `argv` (argv[0] is the program name); its exit code."""
