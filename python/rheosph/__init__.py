@@ -25,6 +25,7 @@ import numpy as np
 
 from . import _native
 from ._native import CaseError
+from ._native import __version__
 
 __all__ = [
     "Case",

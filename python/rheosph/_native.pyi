@@ -5,6 +5,8 @@ from typing import Callable, Optional, Union
 
 _Path = Union[str, PathLike[str]]
 
+__version__: str
+
 class CaseError(ValueError):
     """A case that does not validate; the message is the command line's one line."""
 

@@ -268,5 +268,15 @@ class SimulationTest(unittest.TestCase):
             self.assertLess(np.abs(sim.particles()["u"]).max(), 1e-9)
 
 
+class VersionTest(unittest.TestCase):
+    def test_the_package_and_the_program_share_one_version(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            result = rheosph.run(POISEUILLE, Path(tmp) / "v", overrides=QUICK, figure_format=None)
+            self.assertEqual(rheosph.__version__, result.summary["version"])
+        from importlib.metadata import version
+
+        self.assertEqual(version("rheosph"), rheosph.__version__)
+
+
 if __name__ == "__main__":
     unittest.main()
