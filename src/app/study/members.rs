@@ -5,7 +5,7 @@
 //! `case.toml` the run wrote equals the member's case, the same test as `--reuse`, so a
 //! member run by hand, by a scheduler or by `--jobs` counts alike.
 
-use super::{finished_run, member_dir, Finished, Variant};
+use super::{member_dir, read_finished, Finished, Variant};
 use crate::app::io::write_atomic;
 use crate::app::run::CASE_FILE;
 use crate::setup::case::Case;
@@ -123,18 +123,9 @@ pub fn collect(variants: Vec<Variant>, cases: Vec<Case>, out: &Path) -> Result<V
     let mut missing = Vec::new();
     for (variant, case) in variants.into_iter().zip(cases) {
         let dir = member_dir(out, &variant);
-        match finished_run(&dir, &case) {
-            Some(summary) => {
-                let series = crate::app::io::read_series(&dir.join("series.csv"))?;
-                finished.push(Finished {
-                    variant,
-                    case,
-                    summary,
-                    series,
-                    dir,
-                });
-            }
-            None => missing.push(dir.display().to_string()),
+        match read_finished(variant, case, &dir)? {
+            Ok(done) => finished.push(done),
+            Err(_) => missing.push(dir.display().to_string()),
         }
     }
     if !missing.is_empty() {

@@ -221,18 +221,13 @@ pub fn run_all(
     let done = AtomicUsize::new(0);
     let run_one = |(variant, case): (Variant, Case)| -> Result<Finished> {
         let dir = member_dir(out, &variant);
-        if base.reuse {
-            if let Some(summary) = finished_run(&dir, &case) {
-                let series = crate::app::io::read_series(&dir.join("series.csv"))?;
-                return Ok(Finished {
-                    variant,
-                    case,
-                    summary,
-                    series,
-                    dir,
-                });
-            }
-        }
+        let (variant, case) = match base.reuse {
+            true => match read_finished(variant, case, &dir)? {
+                Ok(done) => return Ok(done),
+                Err(pending) => pending,
+            },
+            false => (variant, case),
+        };
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()?;
@@ -317,6 +312,26 @@ pub fn run_all(
 /// The directory of a member's run.
 fn member_dir(out: &Path, variant: &Variant) -> PathBuf {
     out.join("runs").join(slug(&variant.label))
+}
+
+/// The finished run of a member in `dir` (the `--reuse` test), or the member back if it has
+/// not finished there.
+fn read_finished(
+    variant: Variant,
+    case: Case,
+    dir: &Path,
+) -> Result<Result<Finished, (Variant, Case)>> {
+    let Some(summary) = finished_run(dir, &case) else {
+        return Ok(Err((variant, case)));
+    };
+    let series = crate::app::io::read_series(&dir.join("series.csv"))?;
+    Ok(Ok(Finished {
+        variant,
+        case,
+        summary,
+        series,
+        dir: dir.to_path_buf(),
+    }))
 }
 
 /// The summary of the finished run of `case` in `dir`, if there is one.
