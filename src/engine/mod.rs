@@ -6,6 +6,7 @@
 
 pub mod bodies;
 pub mod boundary;
+pub mod dimension;
 pub mod drive;
 pub mod frame;
 pub mod free_surface;

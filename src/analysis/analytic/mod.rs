@@ -1,6 +1,7 @@
 //! Analytic reference solutions.
 
 pub mod drop_oscillation;
+pub mod pipe;
 pub mod roots;
 pub mod startup_couette;
 pub mod steady_channel;
@@ -9,6 +10,7 @@ pub mod taylor_green;
 pub mod waters_king;
 
 pub use drop_oscillation::DropMode;
+pub use pipe::StartupPipe;
 pub use startup_couette::StartupCouette;
 pub use steady_channel::SteadyChannel;
 pub use waters_king::StartupPoiseuille;

@@ -135,16 +135,7 @@ impl StartupPoiseuille {
 
     /// (G_n(t), H_n(t)) for wavenumber N.
     fn mode(&self, big_n: f64, t: f64) -> (f64, f64) {
-        if self.wi == 0.0 {
-            return ((-big_n * big_n * t / self.re).exp(), 0.0);
-        }
-        let el = self.wi / self.re;
-        let n2 = big_n * big_n;
-        let a = 1.0 + self.beta * el * n2;
-        let s = t / (2.0 * self.wi);
-        let g = damped_combination(a, el * n2, a - 2.0 * el * n2, s);
-        let h = (1.0 - self.beta) * damped_combination(a, el * n2, a, s);
-        (g, h)
+        mode_amplitudes(self.re, self.wi, self.beta, big_n, t)
     }
 
     /// u(y, t).
@@ -207,18 +198,7 @@ impl StartupPoiseuille {
             return tau_xx;
         }
         let dt = t / steps as f64;
-        let decay = (-dt / self.wi).exp();
-        // ∫_0^dt e^{−(dt−s)/Wi} (f0 + (f1 − f0)s/dt) ds = w0 f0 + w1 f1.
-        let q = dt / self.wi;
-        let (w0, w1) = if q > 1e-4 {
-            let e = decay;
-            (
-                self.wi * ((1.0 - e) / q - e),
-                self.wi * (1.0 - (1.0 - e) / q),
-            )
-        } else {
-            (0.5 * dt * (1.0 - 2.0 * q / 3.0), 0.5 * dt * (1.0 - q / 3.0))
-        };
+        let step = ExponentialStep::new(dt, self.wi);
         // The forcing's series is truncated at NORMAL_STRESS_TERMS: τ_xx is an integral in time
         // that smooths the truncation error of the shear-wave cusps (UCM), while evaluating
         // the full 20 000 terms at every sub-step would cost minutes.
@@ -235,7 +215,7 @@ impl StartupPoiseuille {
         for k in 1..=steps {
             let f1 = forcing(k as f64 * dt);
             for (i, txx) in tau_xx.iter_mut().enumerate() {
-                *txx = *txx * decay + w0 * f0[i] + w1 * f1[i];
+                *txx = step.advance(*txx, f0[i], f1[i]);
             }
             f0 = f1;
         }
@@ -295,6 +275,49 @@ fn sums(coeff: &[f64], y: f64) -> (f64, f64) {
         (cn, sn) = (cn * c2 - sn * s2, sn * c2 + cn * s2);
     }
     (sin_sum, cos_sum)
+}
+
+/// (G(t), H(t)) of the module docs for wavenumber N: the mode amplitudes of the velocity
+/// and polymer shear stress deviations. Shared with the pipe series (`pipe`), whose modes
+/// solve the same equations with N replaced by the zeros α_n of J0.
+pub(super) fn mode_amplitudes(re: f64, wi: f64, beta: f64, big_n: f64, t: f64) -> (f64, f64) {
+    if wi == 0.0 {
+        return ((-big_n * big_n * t / re).exp(), 0.0);
+    }
+    let el = wi / re;
+    let n2 = big_n * big_n;
+    let a = 1.0 + beta * el * n2;
+    let s = t / (2.0 * wi);
+    let g = damped_combination(a, el * n2, a - 2.0 * el * n2, s);
+    let h = (1.0 - beta) * damped_combination(a, el * n2, a, s);
+    (g, h)
+}
+
+/// One sub-step of the exponential integrator of `Wi ∂τ/∂t + τ = Wi f`: exact for a forcing
+/// f linear within the sub-step, `τ(dt) = e^{−dt/Wi} τ(0) + w0 f(0) + w1 f(dt)`.
+pub(super) struct ExponentialStep {
+    decay: f64,
+    w0: f64,
+    w1: f64,
+}
+
+impl ExponentialStep {
+    pub(super) fn new(dt: f64, wi: f64) -> Self {
+        let decay = (-dt / wi).exp();
+        // ∫_0^dt e^{−(dt−s)/Wi} (f0 + (f1 − f0)s/dt) ds = w0 f0 + w1 f1.
+        let q = dt / wi;
+        let (w0, w1) = if q > 1e-4 {
+            let e = decay;
+            (wi * ((1.0 - e) / q - e), wi * (1.0 - (1.0 - e) / q))
+        } else {
+            (0.5 * dt * (1.0 - 2.0 * q / 3.0), 0.5 * dt * (1.0 - q / 3.0))
+        };
+        Self { decay, w0, w1 }
+    }
+
+    pub(super) fn advance(&self, tau: f64, f0: f64, f1: f64) -> f64 {
+        tau * self.decay + self.w0 * f0 + self.w1 * f1
+    }
 }
 
 /// `e^{−as}[cosh(bs) + c·s·sinh(bs)/(bs)]` with b² = a² − 4k (trigonometric for b² < 0),

@@ -1,7 +1,7 @@
 //! FENE-CR (King & Lind Table I): the Peterlin factor on A − I.
 
 use super::{deviation, Constitutive, Model, ModelEntry};
-use crate::engine::math::Sym2;
+use crate::engine::dimension::SymTensor;
 
 /// FENE-CR with extensibility L²: constant shear viscosity, extension-limited normal stress.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -10,26 +10,26 @@ pub struct FeneCr {
 }
 
 impl FeneCr {
-    fn peterlin(&self, a: &Sym2) -> f64 {
+    fn peterlin<S: SymTensor>(&self, a: &S) -> f64 {
         1.0 / (1.0 - a.trace() / self.l2)
     }
 }
 
-impl Constitutive for FeneCr {
-    fn strain(&self, a: &Sym2) -> Sym2 {
+impl<S: SymTensor> Constitutive<S> for FeneCr {
+    fn strain(&self, a: &S) -> S {
         deviation(a) * self.peterlin(a)
     }
-    fn relaxation(&self, a: &Sym2) -> Sym2 {
+    fn relaxation(&self, a: &S) -> S {
         self.strain(a)
     }
     fn extensibility(&self) -> Option<f64> {
         Some(self.l2)
     }
-    fn relaxation_coefficients(&self, a: &Sym2) -> Option<(f64, f64)> {
+    fn relaxation_coefficients(&self, a: &S) -> Option<(f64, f64)> {
         Some((self.peterlin(a), 1.0))
     }
-    fn conformation_from_strain(&self, strain: &Sym2, trace: f64) -> Sym2 {
-        *strain * (1.0 - trace / self.l2) + Sym2::IDENTITY
+    fn conformation_from_strain(&self, strain: &S, trace: f64) -> S {
+        *strain * (1.0 - trace / self.l2) + S::IDENTITY
     }
 }
 

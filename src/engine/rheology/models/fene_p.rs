@@ -1,10 +1,11 @@
 //! FENE-P (King & Lind Table I): the Peterlin factor 1/(1 − tr A/L²) on A in f_S and f_R.
 
 use super::{Constitutive, Model, ModelEntry, Parameter};
-use crate::engine::math::Sym2;
+use crate::engine::dimension::SymTensor;
 
-/// FENE-P with extensibility L² (> 2, the trace at rest in 2D). The Peterlin factor
-/// 1/(1 − tr A/L²) multiplies A in both functions; the rest state is A = L²/(L² + 2) I.
+/// FENE-P with extensibility L² (> d, the trace at rest in d dimensions). The Peterlin
+/// factor 1/(1 − tr A/L²) multiplies A in both functions; the rest state is
+/// A = L²/(L² + d) I.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FeneP {
     pub l2: f64,
@@ -12,29 +13,29 @@ pub struct FeneP {
 
 impl FeneP {
     /// 1/(1 − tr A/L²); infinite when tr A reaches L² (the chains' full extension).
-    fn peterlin(&self, a: &Sym2) -> f64 {
+    fn peterlin<S: SymTensor>(&self, a: &S) -> f64 {
         1.0 / (1.0 - a.trace() / self.l2)
     }
 }
 
-impl Constitutive for FeneP {
-    fn strain(&self, a: &Sym2) -> Sym2 {
-        *a * self.peterlin(a) - Sym2::IDENTITY
+impl<S: SymTensor> Constitutive<S> for FeneP {
+    fn strain(&self, a: &S) -> S {
+        *a * self.peterlin(a) - S::IDENTITY
     }
-    fn relaxation(&self, a: &Sym2) -> Sym2 {
+    fn relaxation(&self, a: &S) -> S {
         self.strain(a)
     }
     fn extensibility(&self) -> Option<f64> {
         Some(self.l2)
     }
-    fn relaxation_coefficients(&self, a: &Sym2) -> Option<(f64, f64)> {
+    fn relaxation_coefficients(&self, a: &S) -> Option<(f64, f64)> {
         Some((1.0, self.peterlin(a)))
     }
-    fn rest_conformation(&self) -> Sym2 {
-        Sym2::IDENTITY * (self.l2 / (self.l2 + 2.0))
+    fn rest_conformation(&self) -> S {
+        S::IDENTITY * (self.l2 / (self.l2 + S::DIM as f64))
     }
-    fn conformation_from_strain(&self, strain: &Sym2, trace: f64) -> Sym2 {
-        (*strain + Sym2::IDENTITY) * (1.0 - trace / self.l2)
+    fn conformation_from_strain(&self, strain: &S, trace: f64) -> S {
+        (*strain + S::IDENTITY) * (1.0 - trace / self.l2)
     }
 }
 

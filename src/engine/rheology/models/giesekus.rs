@@ -1,7 +1,7 @@
 //! Giesekus (King & Lind Table I): f_R = αA² + (1 − 2α)A − (1 − α)I.
 
 use super::{deviation, Constitutive, Model, ModelEntry, Parameter};
-use crate::engine::math::Sym2;
+use crate::engine::dimension::SymTensor;
 
 /// Giesekus with mobility α ∈ [0, ½]. f_R is quadratic in A, so the source step is explicit.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -9,16 +9,16 @@ pub struct Giesekus {
     pub alpha: f64,
 }
 
-impl Constitutive for Giesekus {
-    fn strain(&self, a: &Sym2) -> Sym2 {
+impl<S: SymTensor> Constitutive<S> for Giesekus {
+    fn strain(&self, a: &S) -> S {
         deviation(a)
     }
-    fn relaxation(&self, a: &Sym2) -> Sym2 {
+    fn relaxation(&self, a: &S) -> S {
         let m = a.to_mat();
-        let a2 = Sym2::sym_part(&(m * m));
-        a2 * self.alpha + *a * (1.0 - 2.0 * self.alpha) - Sym2::IDENTITY * (1.0 - self.alpha)
+        let a2 = S::sym_part(&(m * m));
+        a2 * self.alpha + *a * (1.0 - 2.0 * self.alpha) - S::IDENTITY * (1.0 - self.alpha)
     }
-    fn relaxation_coefficients(&self, _a: &Sym2) -> Option<(f64, f64)> {
+    fn relaxation_coefficients(&self, _a: &S) -> Option<(f64, f64)> {
         None
     }
 }

@@ -1,5 +1,5 @@
 //! The constitutive models of King & Lind Table I, one type each, as a strain function f_S and
-//! a relaxation function f_R of the conformation tensor A (2D: tr I = 2):
+//! a relaxation function f_R of the conformation tensor A (tr I = d, the dimension: 2 or 3):
 //!
 //! | model | f_S | f_R |
 //! | --- | --- | --- |
@@ -30,33 +30,40 @@ pub use giesekus::Giesekus;
 pub use oldroyd_b::OldroydB;
 pub use ptt::{ExponentialPtt, LinearPtt};
 
+use crate::engine::dimension::SymTensor;
 use crate::engine::math::Sym2;
 
-/// A model in the strain/relaxation form of Table I.
-pub trait Constitutive {
+/// A model in the strain/relaxation form of Table I, for a conformation tensor `S` of either
+/// dimension.
+pub trait Constitutive<S: SymTensor> {
     /// f_S(A), eq. (9): τ_p = (η_p/λ) f_S(A).
-    fn strain(&self, a: &Sym2) -> Sym2;
+    fn strain(&self, a: &S) -> S;
     /// f_R(A), eq. (10).
-    fn relaxation(&self, a: &Sym2) -> Sym2;
+    fn relaxation(&self, a: &S) -> S;
     /// `(α_R, β_R)` with f_R = α_R(β_R A − I), or `None` (then the source step is (33)).
-    fn relaxation_coefficients(&self, a: &Sym2) -> Option<(f64, f64)>;
+    fn relaxation_coefficients(&self, a: &S) -> Option<(f64, f64)>;
     /// L², the bound tr A < L² of a finitely extensible model (FENE), or `None`.
     fn extensibility(&self) -> Option<f64> {
         None
     }
     /// The conformation of the fluid at rest, f_R(A) = 0 (I for all but FENE-P).
-    fn rest_conformation(&self) -> Sym2 {
-        Sym2::IDENTITY
+    fn rest_conformation(&self) -> S {
+        S::IDENTITY
     }
     /// Inverts f_S (§III B, Step 1): the conformation whose strain function is `strain`
     /// (= λτ_p/η_p), given tr A where f_S depends on it (the paper stores tr A for this).
-    fn conformation_from_strain(&self, strain: &Sym2, _trace: f64) -> Sym2 {
-        *strain + Sym2::IDENTITY
+    fn conformation_from_strain(&self, strain: &S, _trace: f64) -> S {
+        *strain + S::IDENTITY
     }
 }
 
-fn deviation(a: &Sym2) -> Sym2 {
-    *a - Sym2::IDENTITY
+fn deviation<S: SymTensor>(a: &S) -> S {
+    *a - S::IDENTITY
+}
+
+/// tr A − d: the trace's excess over the fluid's at rest (A = I).
+fn excess_trace<S: SymTensor>(a: &S) -> f64 {
+    a.trace() - S::DIM as f64
 }
 
 /// The fluid's constitutive model: a Newtonian fluid or one of the types of Table I.
@@ -146,7 +153,7 @@ impl Model {
 
     /// The Table I functions of a viscoelastic model.
     #[inline]
-    pub fn constitutive(&self) -> Option<&dyn Constitutive> {
+    pub fn constitutive<S: SymTensor>(&self) -> Option<&dyn Constitutive<S>> {
         match self {
             Model::Newtonian => None,
             Model::OldroydB | Model::Ucm => Some(&OldroydB),
@@ -173,37 +180,38 @@ impl Model {
     }
 
     /// Strain function f_S(A), eq. (9) (zero for a Newtonian fluid).
-    pub fn strain(&self, a: &Sym2) -> Sym2 {
-        self.constitutive().map_or(Sym2::ZERO, |m| m.strain(a))
+    pub fn strain<S: SymTensor>(&self, a: &S) -> S {
+        self.constitutive().map_or(S::ZERO, |m| m.strain(a))
     }
 
     /// Relaxation function f_R(A), eq. (10).
-    pub fn relaxation(&self, a: &Sym2) -> Sym2 {
-        self.constitutive().map_or(Sym2::ZERO, |m| m.relaxation(a))
+    pub fn relaxation<S: SymTensor>(&self, a: &S) -> S {
+        self.constitutive().map_or(S::ZERO, |m| m.relaxation(a))
     }
 
     /// `(α_R, β_R)` with f_R = α_R(β_R A − I), for the quasi-analytic source step (32).
-    pub fn relaxation_coefficients(&self, a: &Sym2) -> Option<(f64, f64)> {
+    pub fn relaxation_coefficients<S: SymTensor>(&self, a: &S) -> Option<(f64, f64)> {
         self.constitutive()
             .and_then(|m| m.relaxation_coefficients(a))
     }
 
-    /// L² of a finitely extensible model (see [`Constitutive::extensibility`]).
+    /// L² of a finitely extensible model (see [`Constitutive::extensibility`]); the same in
+    /// either dimension.
     pub fn extensibility(&self) -> Option<f64> {
-        self.constitutive().and_then(|m| m.extensibility())
+        self.constitutive::<Sym2>().and_then(|m| m.extensibility())
     }
 
     /// Conformation of the fluid at rest.
-    pub fn rest_conformation(&self) -> Sym2 {
+    pub fn rest_conformation<S: SymTensor>(&self) -> S {
         self.constitutive()
-            .map_or(Sym2::IDENTITY, |m| m.rest_conformation())
+            .map_or(S::IDENTITY, |m| m.rest_conformation())
     }
 
     /// Inverts f_S (see [`Constitutive::conformation_from_strain`]).
-    pub fn conformation_from_strain(&self, strain: &Sym2, trace: f64) -> Sym2 {
+    pub fn conformation_from_strain<S: SymTensor>(&self, strain: &S, trace: f64) -> S {
         match self.constitutive() {
             Some(m) => m.conformation_from_strain(strain, trace),
-            None => *strain + Sym2::IDENTITY,
+            None => *strain + S::IDENTITY,
         }
     }
 }
@@ -251,7 +259,7 @@ mod tests {
     #[test]
     fn relaxation_coefficients_reproduce_the_relaxation_function() {
         let a = Sym2::new(4.0, -1.3, 1.5);
-        let models: [&dyn Constitutive; 5] = [
+        let models: [&dyn Constitutive<Sym2>; 5] = [
             &OldroydB,
             &FeneP { l2: 50.0 },
             &FeneCr { l2: 50.0 },
@@ -268,7 +276,7 @@ mod tests {
     /// Each model is at rest (f_R = 0, no stress) in its rest conformation.
     #[test]
     fn rest_conformation_is_stress_free() {
-        let models: [&dyn Constitutive; 6] = [
+        let models: [&dyn Constitutive<Sym2>; 6] = [
             &OldroydB,
             &FeneP { l2: 10.0 },
             &FeneCr { l2: 10.0 },

@@ -1,20 +1,20 @@
 //! Oldroyd-B (and UCM, its β = 0 limit): f_S = f_R = A − I (King & Lind Table I).
 
 use super::{deviation, Constitutive, Model, ModelEntry};
-use crate::engine::math::Sym2;
+use crate::engine::dimension::SymTensor;
 
 /// Oldroyd-B.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct OldroydB;
 
-impl Constitutive for OldroydB {
-    fn strain(&self, a: &Sym2) -> Sym2 {
+impl<S: SymTensor> Constitutive<S> for OldroydB {
+    fn strain(&self, a: &S) -> S {
         deviation(a)
     }
-    fn relaxation(&self, a: &Sym2) -> Sym2 {
+    fn relaxation(&self, a: &S) -> S {
         deviation(a)
     }
-    fn relaxation_coefficients(&self, _a: &Sym2) -> Option<(f64, f64)> {
+    fn relaxation_coefficients(&self, _a: &S) -> Option<(f64, f64)> {
         Some((1.0, 1.0))
     }
 }

@@ -1,8 +1,8 @@
 //! Phan-Thien–Tanner, linear and exponential (King & Lind Table I): f_S = A − I,
 //! f_R = Y(tr A)(A − I).
 
-use super::{deviation, Constitutive, Model, ModelEntry, Parameter};
-use crate::engine::math::Sym2;
+use super::{deviation, excess_trace, Constitutive, Model, ModelEntry, Parameter};
+use crate::engine::dimension::SymTensor;
 
 /// Linear Phan-Thien–Tanner with extensibility parameter ε.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -11,19 +11,19 @@ pub struct LinearPtt {
 }
 
 impl LinearPtt {
-    fn factor(&self, a: &Sym2) -> f64 {
-        1.0 + self.epsilon * (a.trace() - 2.0)
+    fn factor<S: SymTensor>(&self, a: &S) -> f64 {
+        1.0 + self.epsilon * excess_trace(a)
     }
 }
 
-impl Constitutive for LinearPtt {
-    fn strain(&self, a: &Sym2) -> Sym2 {
+impl<S: SymTensor> Constitutive<S> for LinearPtt {
+    fn strain(&self, a: &S) -> S {
         deviation(a)
     }
-    fn relaxation(&self, a: &Sym2) -> Sym2 {
+    fn relaxation(&self, a: &S) -> S {
         deviation(a) * self.factor(a)
     }
-    fn relaxation_coefficients(&self, a: &Sym2) -> Option<(f64, f64)> {
+    fn relaxation_coefficients(&self, a: &S) -> Option<(f64, f64)> {
         Some((self.factor(a), 1.0))
     }
 }
@@ -35,19 +35,19 @@ pub struct ExponentialPtt {
 }
 
 impl ExponentialPtt {
-    fn factor(&self, a: &Sym2) -> f64 {
-        (self.epsilon * (a.trace() - 2.0)).exp()
+    fn factor<S: SymTensor>(&self, a: &S) -> f64 {
+        (self.epsilon * excess_trace(a)).exp()
     }
 }
 
-impl Constitutive for ExponentialPtt {
-    fn strain(&self, a: &Sym2) -> Sym2 {
+impl<S: SymTensor> Constitutive<S> for ExponentialPtt {
+    fn strain(&self, a: &S) -> S {
         deviation(a)
     }
-    fn relaxation(&self, a: &Sym2) -> Sym2 {
+    fn relaxation(&self, a: &S) -> S {
         deviation(a) * self.factor(a)
     }
-    fn relaxation_coefficients(&self, a: &Sym2) -> Option<(f64, f64)> {
+    fn relaxation_coefficients(&self, a: &S) -> Option<(f64, f64)> {
         Some((self.factor(a), 1.0))
     }
 }

@@ -1,5 +1,10 @@
 //! Small fixed-size linear algebra: 2-vectors, 2×2 matrices, and symmetric 2×2 tensors with
-//! the eigen-decomposition the log-conformation method needs (paper eqs. (12)–(13)).
+//! the eigen-decomposition the log-conformation method needs (paper eqs. (12)–(13)); their
+//! 3D counterparts in [`sym3`].
+
+pub mod sym3;
+
+pub use sym3::{Eigen3, Mat3, Sym3, Vec3};
 
 use std::ops::{Add, AddAssign, Mul, Sub};
 

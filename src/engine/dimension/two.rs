@@ -1,0 +1,93 @@
+//! Two dimensions: [`Sym2`] and its closed-form eigen-decomposition.
+
+use super::{Dim, Dimension, SymTensor};
+use crate::engine::math::{Mat2, Sym2, Vec2};
+
+impl Dimension for Dim<2> {
+    const DIM: usize = 2;
+    type Vector = Vec2;
+    type Matrix = Mat2;
+    type Sym = Sym2;
+    /// 7/(478π h²) (Morris, Fox & Zhu 1997).
+    fn quintic_normalisation(h: f64) -> f64 {
+        7.0 / (478.0 * std::f64::consts::PI * h * h)
+    }
+}
+
+impl SymTensor for Sym2 {
+    const DIM: usize = 2;
+    const ZERO: Self = Sym2::ZERO;
+    const IDENTITY: Self = Sym2::IDENTITY;
+    type Matrix = Mat2;
+    type Values = [f64; 2];
+
+    #[inline]
+    fn entry(&self, i: usize, j: usize) -> f64 {
+        match i + j {
+            0 => self.xx,
+            1 => self.xy,
+            _ => self.yy,
+        }
+    }
+    #[inline]
+    fn from_entries(f: impl Fn(usize, usize) -> f64) -> Self {
+        Sym2::new(f(0, 0), f(0, 1), f(1, 1))
+    }
+    #[inline]
+    fn diagonal(values: &[f64; 2]) -> Self {
+        Sym2::new(values[0], 0.0, values[1])
+    }
+    #[inline]
+    fn values_from(f: impl Fn(usize) -> f64) -> [f64; 2] {
+        [f(0), f(1)]
+    }
+    #[inline]
+    fn trace(&self) -> f64 {
+        Sym2::trace(self)
+    }
+    #[inline]
+    fn det(&self) -> f64 {
+        Sym2::det(self)
+    }
+    #[inline]
+    fn is_finite(&self) -> bool {
+        Sym2::is_finite(self)
+    }
+    #[inline]
+    fn contract(&self, other: &Self) -> f64 {
+        Sym2::contract(self, other)
+    }
+    #[inline]
+    fn sym_part(m: &Mat2) -> Self {
+        Sym2::sym_part(m)
+    }
+    #[inline]
+    fn to_mat(&self) -> Mat2 {
+        Sym2::to_mat(self)
+    }
+    #[inline]
+    fn transpose(m: &Mat2) -> Mat2 {
+        m.transpose()
+    }
+    #[inline]
+    fn congruence(&self, m: &Mat2) -> Self {
+        Sym2::congruence(self, m)
+    }
+    #[inline]
+    fn eigen_decomposition(&self) -> ([f64; 2], Mat2) {
+        let e = self.eigen();
+        (e.values, e.rotation())
+    }
+    #[inline]
+    fn log(&self) -> Self {
+        Sym2::log(self)
+    }
+    #[inline]
+    fn exp(&self) -> Self {
+        Sym2::exp(self)
+    }
+    #[inline]
+    fn max_eigenvalue(&self) -> f64 {
+        Sym2::max_eigenvalue(self)
+    }
+}
