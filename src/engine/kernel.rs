@@ -1,7 +1,7 @@
 //! The quintic spline kernel of Morris, Fox & Zhu (1997), support radius 3h, used with an
 //! initial particle spacing δr = h/1.3 (King & Lind §III: about 44 neighbours in full support).
 
-use crate::engine::dimension::{Dimension, Two};
+use crate::engine::dimension::{Dim, Dimension};
 
 /// Smoothing length over initial particle spacing, h/δr.
 pub const H_OVER_DR: f64 = 1.3;
@@ -15,26 +15,41 @@ pub struct QuinticSpline {
     inv_h: f64,
     /// Normalisation σ_d/h^d: 7/(478π h²) in 2D, 1/(120π h³) in 3D.
     sigma: f64,
+    /// σ_d/h^d as a function of h, for the same kernel at another spacing.
+    normalisation: fn(f64) -> f64,
 }
 
 impl QuinticSpline {
     /// The 2D kernel.
     pub fn new(h: f64) -> Self {
-        Self::in_dimension::<Two>(h)
+        Self::in_dimension::<2>(h)
     }
 
     /// The kernel in D dimensions: only the normalisation differs.
-    pub fn in_dimension<D: Dimension>(h: f64) -> Self {
+    pub fn in_dimension<const D: usize>(h: f64) -> Self
+    where
+        Dim<D>: Dimension<D>,
+    {
+        Self::with_normalisation(h, Dim::<D>::quintic_normalisation)
+    }
+
+    fn with_normalisation(h: f64, normalisation: fn(f64) -> f64) -> Self {
         Self {
             h,
             inv_h: 1.0 / h,
-            sigma: D::quintic_normalisation(h),
+            sigma: normalisation(h),
+            normalisation,
         }
     }
 
-    /// The kernel for particles spaced `dr` (h = 1.3 δr).
+    /// The 2D kernel for particles spaced `dr` (h = 1.3 δr).
     pub fn for_spacing(dr: f64) -> Self {
         Self::new(H_OVER_DR * dr)
+    }
+
+    /// This kernel's dimension at spacing `dr` (graded resolution: a row's own kernel).
+    pub fn at_spacing(&self, dr: f64) -> Self {
+        Self::with_normalisation(H_OVER_DR * dr, self.normalisation)
     }
 
     pub fn h(&self) -> f64 {
@@ -99,7 +114,6 @@ fn pow5(x: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::engine::dimension::Three;
     use std::f64::consts::PI;
 
     /// The fused evaluation gives the two separate ones bit for bit (the kernel sums use it,
@@ -184,7 +198,7 @@ mod tests {
     #[test]
     fn the_3d_kernel_is_normalised_and_consistent_on_a_lattice() {
         let dr = 0.1;
-        let k = QuinticSpline::in_dimension::<Three>(crate::engine::kernel::H_OVER_DR * dr);
+        let k = QuinticSpline::in_dimension::<3>(crate::engine::kernel::H_OVER_DR * dr);
         let n = 20_000;
         let step = k.support() / n as f64;
         let integral: f64 = (0..n)

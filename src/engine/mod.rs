@@ -27,6 +27,7 @@ pub mod reduce;
 pub mod resolution;
 pub mod rheology;
 pub mod scheme;
+pub mod second_order;
 pub mod settings;
 pub mod shifting;
 pub mod stabilisation;

@@ -10,11 +10,15 @@
 //!   `L_i = [Σ_j r_ji ⊗ ∇W_ij δV]⁻¹` makes the gradient exact for linear fields.
 //!
 //! All operators run over the CSR neighbour list, in parallel over fluid particles; field
-//! arguments are "extended" arrays holding fluid values followed by ghost values.
+//! arguments are "extended" arrays holding fluid values followed by ghost values. They are
+//! written once for D = 2 or 3 dimensions ([`KernelSums`]`<D>`, 2 by default); only the
+//! second-order weights are the plane's alone (their moment system lives with the dimension).
 
+use crate::engine::dimension::{Dim, Dimension, SymTensor};
 use crate::engine::kernel::QuinticSpline;
-use crate::engine::math::{Mat2, Sym2, Vec2};
 use crate::engine::neighbours::{NeighbourList, RowWriter};
+use crate::engine::second_order::Second;
+use nalgebra::{SMatrix, SVector};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -98,9 +102,16 @@ pub struct OperatorSettings {
     pub ppe_laplacian: PpeLaplacian,
 }
 
+/// A D-vector.
+type Vector<const D: usize> = SVector<f64, D>;
+/// A D × D matrix.
+type Matrix<const D: usize> = SMatrix<f64, D, D>;
+/// The symmetric D × D tensor.
+type Sym<const D: usize> = <Dim<D> as Dimension<D>>::Sym;
+
 /// Per-pair kernel data and per-particle correction tensors of one particle configuration.
 #[derive(Clone, Debug, Default)]
-pub struct KernelSums {
+pub struct KernelSums<const D: usize = 2> {
     /// Which gradient `grad_hat` holds.
     pub order: GradientOrder,
     /// Which Laplacian `laplacian` holds.
@@ -112,9 +123,9 @@ pub struct KernelSums {
     /// W(r_ij) (without volume ratios), for the operators that weigh by the kernel itself.
     pub value: Vec<f64>,
     /// Corrected gradient ∇Ŵ_ij = L_i ∇W_ij.
-    pub grad_hat: Vec<Vec2>,
+    pub grad_hat: Vec<Vector<D>>,
     /// Bonet–Lok correction tensor L_i per fluid particle.
-    pub correction: Vec<Mat2>,
+    pub correction: Vec<Matrix<D>>,
     /// With [`GradientOrder::Second`] or [`LaplacianOrder::Second`]: the Laplacian weights
     /// of pair k (empty otherwise, when they are computed from `grad_hat` on the fly).
     pub laplacian: Vec<f64>,
@@ -126,16 +137,14 @@ pub struct KernelSums {
     pub rows: Vec<f64>,
 }
 
-/// Above this bound on the condition number of the 5 × 5 moment matrix (the product of the
-/// entry-wise 1-norms of M and M⁻¹; a truncated or very irregular support) a particle keeps
-/// the first-order gradient.
-const MAX_MOMENT_CONDITION: f64 = 1e8;
-
 /// Below this |det M| (M ≈ I in full support) the correction is not attempted: such a particle
 /// has too few neighbours for a meaningful first moment.
 const MIN_MOMENT_DET: f64 = 1e-3;
 
-impl KernelSums {
+impl<const D: usize> KernelSums<D>
+where
+    Dim<D>: Dimension<D>,
+{
     /// Heap bytes held.
     pub fn heap_bytes(&self) -> usize {
         crate::engine::vec_bytes(&self.factor)
@@ -161,7 +170,7 @@ impl KernelSums {
     }
 
     /// Recomputes pair factors, L_i and ∇Ŵ_ij for the current neighbour list.
-    pub fn update(&mut self, list: &NeighbourList, kernel: &QuinticSpline, dv: f64) {
+    pub fn update(&mut self, list: &NeighbourList<D>, kernel: &QuinticSpline, dv: f64) {
         self.update_with_volumes(list, kernel, dv, &[]);
     }
 
@@ -170,7 +179,7 @@ impl KernelSums {
     /// ratio is folded into the pair factor, so every operator sees it.
     pub fn update_with_volumes(
         &mut self,
-        list: &NeighbourList,
+        list: &NeighbourList<D>,
         kernel: &QuinticSpline,
         dv: f64,
         volumes: &[f64],
@@ -182,7 +191,7 @@ impl KernelSums {
     /// resolution, [`crate::engine::resolution`]; empty: `kernel` for every row).
     pub fn update_graded(
         &mut self,
-        list: &NeighbourList,
+        list: &NeighbourList<D>,
         kernel: &QuinticSpline,
         rows: &[f64],
         dv: f64,
@@ -194,8 +203,8 @@ impl KernelSums {
         let n = list.rows();
         self.factor.resize(list.pairs(), 0.0);
         self.value.resize(list.pairs(), 0.0);
-        self.grad_hat.resize(list.pairs(), Vec2::zeros());
-        self.correction.resize(n, Mat2::identity());
+        self.grad_hat.resize(list.pairs(), Vector::<D>::zeros());
+        self.correction.resize(n, Matrix::<D>::identity());
         let second = Second {
             gradient: self.order == GradientOrder::Second,
             laplacian: self.laplacian_order == LaplacianOrder::Second,
@@ -227,7 +236,7 @@ impl KernelSums {
                     )
                 };
                 let kernel = match rows.get(i) {
-                    Some(&spacing) => QuinticSpline::for_spacing(spacing),
+                    Some(&spacing) => kernel.at_spacing(spacing),
                     None => *kernel,
                 };
                 let h = kernel.h();
@@ -244,14 +253,14 @@ impl KernelSums {
                     *f = kernel_factor * volume;
                 }
                 // M_ab = Σ_j (r_ji)_a (∇W_ij)_b δV = −Σ_j F r_a r_b δV (symmetric).
-                let mut m = Mat2::zeros();
+                let mut m = Matrix::<D>::zeros();
                 for (f, r) in factor.iter().zip(rij) {
                     m -= (f * dv) * (r * r.transpose());
                 }
-                let inverse = (m.determinant().abs() > MIN_MOMENT_DET)
-                    .then(|| m.try_inverse())
+                let inverse = (Dim::<D>::determinant(&m).abs() > MIN_MOMENT_DET)
+                    .then(|| Dim::<D>::try_inverse(&m))
                     .flatten();
-                *l = inverse.unwrap_or_else(Mat2::identity);
+                *l = inverse.unwrap_or_else(Matrix::<D>::identity);
                 for ((g, f), r) in grad_hat.iter_mut().zip(factor.iter()).zip(rij) {
                     *g = *l * (*f * r);
                 }
@@ -261,7 +270,7 @@ impl KernelSums {
                     for ((w, g), r) in lap.iter_mut().zip(grad_hat.iter()).zip(rij) {
                         *w = morris_weight(r, g, dv);
                     }
-                    second_order_row(grad_hat, lap, factor, rij, h, dv, second);
+                    Dim::<D>::second_order_row(grad_hat, lap, factor, rij, h, dv, second);
                 }
                 if linear_exact {
                     // SAFETY: as above, row i only.
@@ -284,7 +293,7 @@ impl KernelSums {
     /// The PPE's weight of pair `k`: [`Self::laplacian_weight`], made exact for linear fields
     /// under [`PpeLaplacian::LinearExact`].
     #[inline]
-    pub fn ppe_weight(&self, list: &NeighbourList, k: usize) -> f64 {
+    pub fn ppe_weight(&self, list: &NeighbourList<D>, k: usize) -> f64 {
         if !self.ppe_weights.is_empty() {
             return self.ppe_weights[k];
         }
@@ -293,15 +302,15 @@ impl KernelSums {
 
     /// Uncorrected kernel gradient ∇W_ij of pair `k`.
     #[inline]
-    pub fn grad_w(&self, list: &NeighbourList, k: usize) -> Vec2 {
+    pub fn grad_w(&self, list: &NeighbourList<D>, k: usize) -> Vector<D> {
         self.factor[k] * list.rij[k]
     }
 
     /// Velocity gradient `G_i[(a, b)] = ∂u_a/∂x_b`, eq. (20).
-    pub fn gradient_vector(&self, list: &NeighbourList, u: &[Vec2], out: &mut [Mat2]) {
+    pub fn gradient_vector(&self, list: &NeighbourList<D>, u: &[Vector<D>], out: &mut [Matrix<D>]) {
         let dv = self.dv;
         out.par_iter_mut().enumerate().for_each(|(i, g)| {
-            let mut acc = Mat2::zeros();
+            let mut acc = Matrix::<D>::zeros();
             for k in list.range(i) {
                 let du = u[list.index[k] as usize] - u[i];
                 acc += du * self.grad_hat[k].transpose();
@@ -311,10 +320,10 @@ impl KernelSums {
     }
 
     /// Scalar gradient, eq. (20).
-    pub fn gradient_scalar(&self, list: &NeighbourList, p: &[f64], out: &mut [Vec2]) {
+    pub fn gradient_scalar(&self, list: &NeighbourList<D>, p: &[f64], out: &mut [Vector<D>]) {
         let dv = self.dv;
         out.par_iter_mut().enumerate().for_each(|(i, g)| {
-            let mut acc = Vec2::zeros();
+            let mut acc = Vector::<D>::zeros();
             for k in list.range(i) {
                 acc += (p[list.index[k] as usize] - p[i]) * self.grad_hat[k];
             }
@@ -323,7 +332,7 @@ impl KernelSums {
     }
 
     /// Velocity divergence, negative form of eq. (20).
-    pub fn divergence(&self, list: &NeighbourList, u: &[Vec2], out: &mut [f64]) {
+    pub fn divergence(&self, list: &NeighbourList<D>, u: &[Vector<D>], out: &mut [f64]) {
         let dv = self.dv;
         out.par_iter_mut().enumerate().for_each(|(i, d)| {
             let mut acc = 0.0;
@@ -337,14 +346,14 @@ impl KernelSums {
     /// Divergence of a symmetric tensor, `(∇·T)_a = Σ_b ∂T_ab/∂x_b`, eq. (20) in either form.
     pub fn divergence_tensor(
         &self,
-        list: &NeighbourList,
-        t: &[Sym2],
+        list: &NeighbourList<D>,
+        t: &[Sym<D>],
         form: DivergenceForm,
-        out: &mut [Vec2],
+        out: &mut [Vector<D>],
     ) {
         let dv = self.dv;
         out.par_iter_mut().enumerate().for_each(|(i, d)| {
-            let mut acc = Vec2::zeros();
+            let mut acc = Vector::<D>::zeros();
             for k in list.range(i) {
                 let tj = t[list.index[k] as usize];
                 let (diff, g) = match form {
@@ -358,9 +367,14 @@ impl KernelSums {
     }
 
     /// Vector Laplacian, eq. (21).
-    pub fn laplacian_vector(&self, list: &NeighbourList, u: &[Vec2], out: &mut [Vec2]) {
+    pub fn laplacian_vector(
+        &self,
+        list: &NeighbourList<D>,
+        u: &[Vector<D>],
+        out: &mut [Vector<D>],
+    ) {
         out.par_iter_mut().enumerate().for_each(|(i, l)| {
-            let mut acc = Vec2::zeros();
+            let mut acc = Vector::<D>::zeros();
             for k in list.range(i) {
                 acc += self.laplacian_weight(list, k) * (u[i] - u[list.index[k] as usize]);
             }
@@ -374,13 +388,13 @@ impl KernelSums {
     /// ∇·(2φD), which vanishes in unidirectional flows (a channel: ∂φ/∂y ∂v/∂x = 0).
     pub fn variable_laplacian_vector(
         &self,
-        list: &NeighbourList,
-        u: &[Vec2],
+        list: &NeighbourList<D>,
+        u: &[Vector<D>],
         factor: &[f64],
-        out: &mut [Vec2],
+        out: &mut [Vector<D>],
     ) {
         out.par_iter_mut().enumerate().for_each(|(i, l)| {
-            let mut acc = Vec2::zeros();
+            let mut acc = Vector::<D>::zeros();
             for k in list.range(i) {
                 let j = list.index[k] as usize;
                 let w = self.laplacian_weight(list, k) * pair_viscosity(factor[i], factor[j]);
@@ -392,7 +406,7 @@ impl KernelSums {
 
     /// The weight `2 (r_ij·∇Ŵ_ij)/|r_ij|² δV` of pair `k` in eq. (21) (negative in full support).
     #[inline]
-    pub fn laplacian_weight(&self, list: &NeighbourList, k: usize) -> f64 {
+    pub fn laplacian_weight(&self, list: &NeighbourList<D>, k: usize) -> f64 {
         if !self.laplacian.is_empty() {
             return self.laplacian[k];
         }
@@ -403,15 +417,15 @@ impl KernelSums {
     /// `Σ_j (T_j − T_i)(v_i·∇Ŵ_ij) δV`.
     pub fn advective_tensor(
         &self,
-        list: &NeighbourList,
-        t: &[Sym2],
-        velocity: &[Vec2],
-        out: &mut [Sym2],
+        list: &NeighbourList<D>,
+        t: &[Sym<D>],
+        velocity: &[Vector<D>],
+        out: &mut [Sym<D>],
     ) {
         let dv = self.dv;
         out.par_iter_mut().enumerate().for_each(|(i, d)| {
             let v = velocity[i];
-            let mut acc = Sym2::ZERO;
+            let mut acc = Sym::<D>::ZERO;
             for k in list.range(i) {
                 acc += (t[list.index[k] as usize] - t[i]) * v.dot(&self.grad_hat[k]);
             }
@@ -420,7 +434,10 @@ impl KernelSums {
     }
 }
 
-impl KernelSums {
+impl<const D: usize> KernelSums<D>
+where
+    Dim<D>: Dimension<D>,
+{
     /// Advective derivative `(v·∇)T` from the half of the neighbourhood that `v` points into
     /// (the upwind side of the transport T(r + δt v)): the corrected gradient of eq. (20)
     /// restricted to S = {j : (r_j − r_i)·v_i > 0} and re-corrected there, so that it stays
@@ -430,27 +447,27 @@ impl KernelSums {
     /// on that side) the central derivative is used.
     pub fn advective_tensor_upwind(
         &self,
-        list: &NeighbourList,
-        t: &[Sym2],
-        velocity: &[Vec2],
-        out: &mut [Sym2],
+        list: &NeighbourList<D>,
+        t: &[Sym<D>],
+        velocity: &[Vector<D>],
+        out: &mut [Sym<D>],
     ) {
         let dv = self.dv;
         out.par_iter_mut().enumerate().for_each(|(i, d)| {
             let v = velocity[i];
             // r_j − r_i = −r_ij; the upwind side is where it points along v.
             let upwind = |k: usize| -list.rij[k].dot(&v) > 0.0;
-            let mut b = Mat2::zeros();
+            let mut b = Matrix::<D>::zeros();
             for k in list.range(i).filter(|&k| upwind(k)) {
                 b -= self.grad_hat[k] * list.rij[k].transpose();
             }
             b *= dv;
-            let inverse = (b.determinant().abs() > MIN_HALF_MOMENT_DET)
-                .then(|| b.try_inverse())
+            let inverse = (Dim::<D>::determinant(&b).abs() > MIN_HALF_MOMENT_DET)
+                .then(|| Dim::<D>::try_inverse(&b))
                 .flatten();
             let w = inverse.map_or(v, |inverse| inverse.transpose() * v);
             let side = |k: usize| inverse.is_none() || upwind(k);
-            let mut acc = Sym2::ZERO;
+            let mut acc = Sym::<D>::ZERO;
             for k in list.range(i).filter(|&k| side(k)) {
                 acc += (t[list.index[k] as usize] - t[i]) * w.dot(&self.grad_hat[k]);
             }
@@ -476,71 +493,9 @@ pub fn pair_viscosity(a: f64, b: f64) -> f64 {
     }
 }
 
-/// Which of a particle's weights [`second_order_row`] overwrites.
-#[derive(Clone, Copy)]
-struct Second {
-    gradient: bool,
-    laplacian: bool,
-}
-
-/// Overwrites one particle's gradient and/or Laplacian weights with the second-order ones:
-/// with x = r_j − r_i, test vector q_j = ∇W_ij ⊕ (−F/h)(x², xy, y²) (F = W'/r, so the first
-/// two entries are ∇W_ij) and Taylor monomials p_j = (x, y, x²/2, xy, y²/2),
-///
-/// ```text
-///     D_i = M_i⁻¹ Σ_j (φ_j − φ_i) q_j δV,   M_i = Σ_j q_j ⊗ p_j δV,
-/// ```
-///
-/// is exact for quadratic φ (D = ∂x, ∂y, ∂xx, ∂xy, ∂yy); the gradient weights are the first
-/// two rows of M⁻¹ q_j, the Laplacian's the sum of the third and fifth (with the sign of
-/// (21)'s weights, which multiply φ_i − φ_j). M's leading 2 × 2 block is Bonet–Lok's moment
-/// matrix, so this is eq. (22) carried one order further (Nasar et al. 2021). `factor` holds
-/// F times the volume ratio. A particle whose M is too ill-conditioned keeps its weights.
-fn second_order_row(
-    grad: &mut [Vec2],
-    laplacian: &mut [f64],
-    factor: &[f64],
-    rij: &[Vec2],
-    h: f64,
-    dv: f64,
-    which: Second,
-) {
-    type M5 = nalgebra::SMatrix<f64, 5, 5>;
-    type V5 = nalgebra::SVector<f64, 5>;
-    let test = |f: f64, r: &Vec2| {
-        let (x, y) = (-r.x, -r.y);
-        let s = -f / h;
-        V5::new(-f * x, -f * y, s * x * x, s * x * y, s * y * y)
-    };
-    let mut m = M5::zeros();
-    for (f, r) in factor.iter().zip(rij) {
-        let (x, y) = (-r.x, -r.y);
-        let p = V5::new(x, y, 0.5 * x * x, x * y, 0.5 * y * y);
-        m += (test(*f, r) * dv) * p.transpose();
-    }
-    let Some(inv) = m.try_inverse() else { return };
-    if m.lp_norm(1) * inv.lp_norm(1) > MAX_MOMENT_CONDITION || !inv[(0, 0)].is_finite() {
-        return;
-    }
-    let weights = grad
-        .iter_mut()
-        .zip(laplacian.iter_mut())
-        .zip(factor)
-        .zip(rij);
-    for (((g, w), f), r) in weights {
-        let d = inv * test(*f, r);
-        if which.gradient {
-            *g = Vec2::new(d[0], d[1]);
-        }
-        if which.laplacian {
-            *w = -(d[2] + d[4]) * dv;
-        }
-    }
-}
-
 /// Morris's weight of a pair in eq. (21), `2 r_ij·∇Ŵ_ij δV/|r_ij|²`.
 #[inline]
-fn morris_weight(r: &Vec2, grad_hat: &Vec2, dv: f64) -> f64 {
+fn morris_weight<const D: usize>(r: &Vector<D>, grad_hat: &Vector<D>, dv: f64) -> f64 {
     2.0 * r.dot(grad_hat) / r.norm_squared() * dv
 }
 
@@ -560,8 +515,13 @@ fn morris_weight(r: &Vec2, grad_hat: &Vec2, dv: f64) -> f64 {
 /// the momentum balance. With (21) alone the PPE's solution bends near the surface, and a
 /// pool at rest kept a divergence of up to 0.03 per unit time under its surface and rose
 /// 16 % in 20 time units (validation pages, *Still water*).
-fn linear_exact_row(weights: &mut [f64], grad_hat: &[Vec2], rij: &[Vec2], dv: f64) {
-    let b: Vec2 = weights.iter().zip(rij).map(|(w, r)| *w * r).sum();
+fn linear_exact_row<const D: usize>(
+    weights: &mut [f64],
+    grad_hat: &[Vector<D>],
+    rij: &[Vector<D>],
+    dv: f64,
+) {
+    let b: Vector<D> = weights.iter().zip(rij).map(|(w, r)| *w * r).sum();
     for (w, g) in weights.iter_mut().zip(grad_hat) {
         *w += dv * b.dot(g);
     }
@@ -570,6 +530,7 @@ fn linear_exact_row(weights: &mut [f64], grad_hat: &[Vec2], rij: &[Vec2], dv: f6
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::engine::math::{Mat2, Mat3, Sym2, Sym3, Vec2, Vec3};
     use crate::engine::neighbours::{Domain, NeighbourSearch};
 
     /// A lattice in a periodic unit box with every particle displaced pseudo-randomly by up to
@@ -873,6 +834,93 @@ mod tests {
                 "central sees the step: {}",
                 central[i].xx
             );
+        }
+    }
+
+    /// A simple cubic lattice in a periodic box, n per side, jittered by up to ±jitter·δr.
+    fn disordered_cube(n: usize, jitter: f64) -> (Vec<Vec3>, NeighbourList<3>, KernelSums<3>) {
+        let dr = 1.0 / n as f64;
+        let domain = Domain::<3> {
+            min: Vec3::zeros(),
+            max: Vec3::new(1.0, 1.0, 1.0),
+            periodic: [true; 3],
+        };
+        let weyl = |k: usize, a: f64| ((k as f64 * a).fract() - 0.5) * 2.0 * jitter * dr;
+        let pts: Vec<Vec3> = (0..n * n * n)
+            .map(|k| {
+                let (i, j, l) = (k / (n * n), (k / n) % n, k % n);
+                let lattice = Vec3::new(i as f64, j as f64, l as f64).add_scalar(0.5) * dr;
+                let jiggle = Vec3::new(
+                    weyl(k, 0.754_877_666),
+                    weyl(k, 0.569_840_290),
+                    weyl(k, 0.438_579_8),
+                );
+                domain.wrap(lattice + jiggle)
+            })
+            .collect();
+        let kernel = QuinticSpline::in_dimension::<3>(crate::engine::kernel::H_OVER_DR * dr);
+        let mut list = NeighbourList::default();
+        NeighbourSearch::<3>::new().build(&domain, &pts, pts.len(), kernel.support(), &mut list);
+        let mut sums = KernelSums::<3>::default();
+        sums.update(&list, &kernel, dr * dr * dr);
+        (pts, list, sums)
+    }
+
+    /// In 3D on disordered particles (±0.3δr): the Bonet–Lok corrected gradient (22) is exact
+    /// for linear scalar and vector fields and the divergence for a linear velocity, as in 2D
+    /// (to round-off over ~250 neighbours, 1e-10); the divergence of a linear symmetric
+    /// tensor field is exact in the negative form; and Morris's Laplacian (21) of a quadratic
+    /// field is its Laplacian within the disorder's O(1) error of this first-order operator
+    /// (measured: at most 3.1 % off over the particles tested; bound 15 %).
+    #[test]
+    fn the_3d_operators_are_exact_for_linear_fields() {
+        let (pts, list, sums) = disordered_cube(10, 0.3);
+        let n = pts.len();
+        let a = Vec3::new(1.7, -0.4, 0.9);
+        let b = Mat3::new(0.3, -1.1, 2.0, 0.5, 0.2, -0.7, 1.3, 0.4, -0.6);
+        let c = [
+            Sym3::new(1.0, 0.2, -0.3, 0.5, 0.7, -1.1),
+            Sym3::new(-0.4, 0.9, 0.1, 0.3, -0.2, 0.6),
+            Sym3::new(0.8, -0.5, 0.4, 0.2, 0.3, 0.1),
+        ];
+        let mut grad = vec![Vec3::zeros(); n];
+        let mut grad_u = vec![Mat3::zeros(); n];
+        let mut div = vec![0.0; n];
+        let mut div_t = vec![Vec3::zeros(); n];
+        let mut lap = vec![Vec3::zeros(); n];
+        for i in (0..n).step_by(97) {
+            let mut phi = vec![0.0; n];
+            let mut u = vec![Vec3::zeros(); n];
+            let mut t = vec![Sym3::ZERO; n];
+            let mut quadratic = vec![Vec3::zeros(); n];
+            for k in list.range(i) {
+                let j = list.index[k] as usize;
+                let rel = -list.rij[k];
+                phi[j] = a.dot(&rel);
+                u[j] = b * rel;
+                t[j] = c[0] * rel.x + c[1] * rel.y + c[2] * rel.z;
+                quadratic[j] = Vec3::new(rel.x * rel.x + rel.y * rel.z, 0.0, 0.0);
+            }
+            sums.gradient_scalar(&list, &phi, &mut grad);
+            sums.gradient_vector(&list, &u, &mut grad_u);
+            sums.divergence(&list, &u, &mut div);
+            sums.divergence_tensor(&list, &t, DivergenceForm::Negative, &mut div_t);
+            sums.laplacian_vector(&list, &quadratic, &mut lap);
+            assert!((grad[i] - a).norm() < 1e-10, "∇φ at {i}: {:?}", grad[i]);
+            assert!((grad_u[i] - b).norm() < 1e-10, "∇u at {i}");
+            assert!((div[i] - b.trace()).abs() < 1e-10);
+            let expected = Vec3::new(
+                c[0].xx + c[1].xy + c[2].xz,
+                c[0].xy + c[1].yy + c[2].yz,
+                c[0].xz + c[1].yz + c[2].zz,
+            );
+            assert!(
+                (div_t[i] - expected).norm() < 1e-10,
+                "∇·T at {i}: {:?}",
+                div_t[i]
+            );
+            // (21) is −Σ w (u_i − u_j)… with the sign of ∇²: ∇²(x² + yz) = 2.
+            assert!((lap[i].x - 2.0).abs() < 0.3, "∇²φ at {i}: {}", lap[i].x);
         }
     }
 }

@@ -2,15 +2,32 @@
 
 use super::{Dim, Dimension, SymTensor};
 use crate::engine::math::{Mat3, Sym3, Vec3};
+use crate::engine::second_order::Second;
 
-impl Dimension for Dim<3> {
-    const DIM: usize = 3;
-    type Vector = Vec3;
-    type Matrix = Mat3;
+impl Dimension<3> for Dim<3> {
     type Sym = Sym3;
     /// 1/(120π h³) (Morris, Fox & Zhu 1997).
     fn quintic_normalisation(h: f64) -> f64 {
         1.0 / (120.0 * std::f64::consts::PI * h * h * h)
+    }
+    #[inline]
+    fn determinant(m: &Mat3) -> f64 {
+        m.determinant()
+    }
+    #[inline]
+    fn try_inverse(m: &Mat3) -> Option<Mat3> {
+        m.try_inverse()
+    }
+    fn second_order_row(
+        grad: &mut [Vec3],
+        laplacian: &mut [f64],
+        factor: &[f64],
+        rij: &[Vec3],
+        h: f64,
+        dv: f64,
+        which: Second,
+    ) {
+        let _ = (grad, laplacian, factor, rij, h, dv, which);
     }
 }
 
@@ -19,6 +36,7 @@ impl SymTensor for Sym3 {
     const ZERO: Self = Sym3::ZERO;
     const IDENTITY: Self = Sym3::IDENTITY;
     type Matrix = Mat3;
+    type Vector = Vec3;
     type Values = [f64; 3];
 
     #[inline]
@@ -52,6 +70,10 @@ impl SymTensor for Sym3 {
     #[inline]
     fn contract(&self, other: &Self) -> f64 {
         Sym3::contract(self, other)
+    }
+    #[inline]
+    fn dot(&self, v: &Vec3) -> Vec3 {
+        Sym3::dot(self, v)
     }
     #[inline]
     fn sym_part(m: &Mat3) -> Self {

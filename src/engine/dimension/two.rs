@@ -2,15 +2,32 @@
 
 use super::{Dim, Dimension, SymTensor};
 use crate::engine::math::{Mat2, Sym2, Vec2};
+use crate::engine::second_order::Second;
 
-impl Dimension for Dim<2> {
-    const DIM: usize = 2;
-    type Vector = Vec2;
-    type Matrix = Mat2;
+impl Dimension<2> for Dim<2> {
     type Sym = Sym2;
     /// 7/(478π h²) (Morris, Fox & Zhu 1997).
     fn quintic_normalisation(h: f64) -> f64 {
         7.0 / (478.0 * std::f64::consts::PI * h * h)
+    }
+    #[inline]
+    fn determinant(m: &Mat2) -> f64 {
+        m.determinant()
+    }
+    #[inline]
+    fn try_inverse(m: &Mat2) -> Option<Mat2> {
+        m.try_inverse()
+    }
+    fn second_order_row(
+        grad: &mut [Vec2],
+        laplacian: &mut [f64],
+        factor: &[f64],
+        rij: &[Vec2],
+        h: f64,
+        dv: f64,
+        which: Second,
+    ) {
+        crate::engine::second_order::second_order_row(grad, laplacian, factor, rij, h, dv, which);
     }
 }
 
@@ -19,6 +36,7 @@ impl SymTensor for Sym2 {
     const ZERO: Self = Sym2::ZERO;
     const IDENTITY: Self = Sym2::IDENTITY;
     type Matrix = Mat2;
+    type Vector = Vec2;
     type Values = [f64; 2];
 
     #[inline]
@@ -56,6 +74,10 @@ impl SymTensor for Sym2 {
     #[inline]
     fn contract(&self, other: &Self) -> f64 {
         Sym2::contract(self, other)
+    }
+    #[inline]
+    fn dot(&self, v: &Vec2) -> Vec2 {
+        Sym2::dot(self, v)
     }
     #[inline]
     fn sym_part(m: &Mat2) -> Self {
