@@ -308,7 +308,10 @@ class Simulation:
 
     def particles(self) -> dict[str, np.ndarray]:
         """The particles now: x, y, u, v, pressure, vorticity, tau_xx, tau_xy, tau_yy,
-        trace_A, det_A and, for a viscoelastic fluid, A_xx, A_xy, A_yy."""
+        trace_A, det_A; for a viscoelastic fluid A_xx, A_xy, A_yy; in a free-surface scene
+        after its first step, free_surface and near_surface (1.0 for the particles the last
+        step found on, or next to, the surface; 0.0 otherwise). Every particle here is fluid:
+        walls and discs are represented by mirrors, which are not particles of the state."""
         return {
             name: np.frombuffer(data, dtype="<f8").copy() for name, data in self._run.particles()
         }
@@ -317,6 +320,20 @@ class Simulation:
         """The body force per unit mass for the steps that follow (a case's
         ``scene.body_force``)."""
         self._run.set_body_force(float(fx), float(fy))
+
+    def set_disc_motion(self, k: int, velocity: Sequence[float], spin: float = 0.0) -> None:
+        """Steers prescribed disc ``k`` (``scene.discs[k]``): its velocity ``(vx, vy)`` and
+        spin for the steps that follow, as if the case had given them. A disc the fluid moves
+        (``free``, ``free-rotation``) or one in the Eulerian frame raises :class:`CaseError`."""
+        vx, vy = (float(v) for v in velocity)
+        self._run.set_disc_motion(int(k), vx, vy, float(spin))
+
+    def write_outputs(self, directory: Union[str, os.PathLike]) -> None:
+        """Writes the usual files of the state now into ``directory`` (created if missing),
+        the simulation going on: series.csv so far and the probes' files, profile.csv at the
+        current time (with the analytic columns where the scene has a reference), and the
+        particles as state.vtu (for ParaView)."""
+        self._run.write_outputs(str(directory))
 
     def checkpoint(self) -> None:
         """Writes ``checkpoint.bin`` in the run directory now."""

@@ -42,3 +42,45 @@ def grid_fields(
 
 def cli(argv: list[str]) -> int:
     """Runs the command line with `argv` (argv[0] is the program name); its exit code."""
+
+class LiveRun:
+    """A run held in memory and stepped from Python (see ``rheosph.Simulation``)."""
+
+    def __init__(
+        self,
+        text: str,
+        file: str,
+        name: str,
+        overrides: list[str],
+        out: _Path,
+        snapshots: bool = False,
+    ) -> None: ...
+    @staticmethod
+    def resume(out: _Path, snapshots: bool = False) -> "LiveRun":
+        """The run checkpointed in `out`."""
+    def step(self) -> bool:
+        """One step; False when the run is over."""
+    def advance(
+        self, t: float, progress: Optional[Callable[[float, float], object]] = None
+    ) -> bool:
+        """Steps until the time reaches `t`; Ctrl-C stops between two steps."""
+    @property
+    def t(self) -> float: ...
+    @property
+    def dt(self) -> float: ...
+    @property
+    def steps(self) -> int: ...
+    @property
+    def end_time(self) -> float: ...
+    @property
+    def breakdown(self) -> Optional[str]: ...
+    def particles(self) -> list[tuple[str, bytes]]:
+        """The particle fields now: (name, little-endian f64 bytes) pairs."""
+    def set_body_force(self, fx: float, fy: float) -> None: ...
+    def set_disc_motion(self, k: int, vx: float, vy: float, spin: float) -> None: ...
+    def write_outputs(self, dir: _Path) -> None:
+        """series.csv, the probes' files, profile.csv and state.vtu of the state now."""
+    def checkpoint(self) -> None:
+        """Writes checkpoint.bin now."""
+    def finish(self) -> int:
+        """Writes the final files: 0 at the end time, 3 broke down, 4 stopped before either."""

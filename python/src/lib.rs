@@ -328,6 +328,11 @@ impl LiveRun {
             fields.push(("A_xy", s.conformation.iter().map(|a| a.xy).collect()));
             fields.push(("A_yy", s.conformation.iter().map(|a| a.yy).collect()));
         }
+        if let Some(surface) = sim.surface() {
+            let flag = |b: &[bool]| b.iter().map(|&b| f64::from(u8::from(b))).collect();
+            fields.push(("free_surface", flag(&surface.on_surface)));
+            fields.push(("near_surface", flag(&surface.near_surface)));
+        }
         Ok(fields
             .iter()
             .map(|(n, v)| (n.to_string(), f64_bytes(py, v).unbind()))
@@ -344,6 +349,21 @@ impl LiveRun {
         let run = self.run()?;
         run.sim.state.body_force = rheosph::engine::math::Vec2::new(fx, fy);
         Ok(())
+    }
+
+    /// Sets prescribed disc `k`'s velocity and spin for the steps that follow.
+    fn set_disc_motion(&mut self, k: usize, vx: f64, vy: f64, spin: f64) -> PyResult<()> {
+        let run = self.run()?;
+        run.sim
+            .set_disc_motion(k, rheosph::engine::math::Vec2::new(vx, vy), spin)
+            .map_err(|e| CaseError::new_err(format!("scene.discs[{k}]: {e}")))
+    }
+
+    /// Writes series.csv, the probes' files, profile.csv and state.vtu of the state now
+    /// into `dir`; the run goes on.
+    fn write_outputs(&mut self, py: Python<'_>, dir: PathBuf) -> PyResult<()> {
+        let run = self.run()?;
+        py.detach(|| run.write_outputs(&dir)).map_err(runtime_error)
     }
 
     /// Writes `checkpoint.bin` now; `LiveRun.resume(out)` continues from it.

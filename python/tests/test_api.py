@@ -268,6 +268,95 @@ class SimulationTest(unittest.TestCase):
             self.assertLess(np.abs(sim.particles()["u"]).max(), 1e-9)
 
 
+def disc_in_channel(velocity=None, motion="prescribed"):
+    """A plane Couette cell with one disc (R/dr = 8, the coarsest the set-up takes), as a
+    dict case."""
+    disc = {"radius": 1.0, "centre": [4.0, 4.0], "motion": motion}
+    if velocity is not None:
+        disc["velocity"] = velocity
+    return {
+        "scene": {
+            "kind": "channel",
+            "length": 8.0,
+            "height": 8.0,
+            "resolution": 64,
+            "wall_velocity": [-1.0, 1.0],
+            "discs": [disc],
+        },
+        "fluid": {"model": "newtonian", "density": 1.0, "viscosity": 1.0},
+        "run": {"end_time": 0.06, "output_interval": 0.02},
+    }
+
+
+class SteeringTest(unittest.TestCase):
+    def test_a_disc_steered_from_python_is_the_case_that_gives_its_velocity(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            given = rheosph.run(disc_in_channel([0.3, 0.1]), Path(tmp) / "given")
+            sim = rheosph.Simulation(disc_in_channel([0.0, 0.0]), Path(tmp) / "steered")
+            sim.set_disc_motion(0, (0.3, 0.1))
+            sim.advance(1e9)
+            steered = sim.finish()
+            self.assertEqual(given.outcome, "finished")
+            self.assertEqual(
+                (given.path / "series.csv").read_text(), (steered.path / "series.csv").read_text()
+            )
+            # disc.csv's row at t = 0 was written when the simulation was set up, before
+            # the disc was steered; every row after it is the given case's.
+            given_rows = (given.path / "disc.csv").read_text().splitlines()
+            steered_rows = (steered.path / "disc.csv").read_text().splitlines()
+            self.assertEqual(len(given_rows), len(steered_rows))
+            self.assertGreater(len(given_rows), 3)
+            self.assertEqual(given_rows[2:], steered_rows[2:])
+
+    def test_steering_is_validated_like_a_case_key(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            free = rheosph.Simulation(disc_in_channel(motion="free"), Path(tmp) / "free")
+            with self.assertRaises(rheosph.CaseError) as bad:
+                free.set_disc_motion(0, (0.1, 0.0))
+            self.assertIn("scene.discs[0]", str(bad.exception))
+            with self.assertRaises(rheosph.CaseError) as bad:
+                free.set_disc_motion(3, (0.1, 0.0))
+            self.assertIn("no disc 3", str(bad.exception))
+            held = rheosph.Simulation(disc_in_channel([0.0, 0.0]), Path(tmp) / "held")
+            with self.assertRaises(rheosph.CaseError):
+                held.set_disc_motion(0, (float("inf"), 0.0))
+
+
+class OutputsTest(unittest.TestCase):
+    def test_outputs_written_mid_run_leave_the_run_unchanged(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            cli = rheosph.run(POISEUILLE, Path(tmp) / "cli", overrides=QUICK)
+            sim = rheosph.Simulation(POISEUILLE, Path(tmp) / "py", overrides=QUICK)
+            sim.advance(0.1)
+            sim.write_outputs(Path(tmp) / "now")
+            now = rheosph.open_run(Path(tmp) / "now")
+            self.assertEqual(len(now.profile["y"]), 144)
+            self.assertGreater(len(now.series["t"]), 5)
+            self.assertAlmostEqual(now.series["t"][-1], sim.t, delta=0.011)
+            self.assertTrue((Path(tmp) / "now" / "state.vtu").read_bytes().startswith(b"<?xml"))
+            sim.advance(1e9)
+            self.assertEqual(
+                (cli.path / "series.csv").read_text(),
+                (sim.finish().path / "series.csv").read_text(),
+            )
+
+    def test_a_free_surface_scene_flags_its_surface_particles(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            overrides = {"scene.resolution": 16, "run.end_time": 0.02}
+            drop = ROOT / "cases" / "static-drop.toml"
+            sim = rheosph.Simulation(drop, Path(tmp) / "drop", overrides=overrides)
+            self.assertNotIn("free_surface", sim.particles())  # none before the first step
+            sim.step()
+            fields = sim.particles()
+            surface = fields["free_surface"]
+            self.assertTrue(set(np.unique(surface)) <= {0.0, 1.0})
+            # The surface particles are the outermost: their mean radius exceeds the rest's.
+            r = np.hypot(fields["x"] - fields["x"].mean(), fields["y"] - fields["y"].mean())
+            self.assertGreater(surface.sum(), 10)
+            self.assertGreater(r[surface == 1.0].mean(), r[surface == 0.0].max() - 0.2)
+            self.assertIn("near_surface", fields)
+
+
 class VersionTest(unittest.TestCase):
     def test_the_package_and_the_program_share_one_version(self):
         with tempfile.TemporaryDirectory() as tmp:

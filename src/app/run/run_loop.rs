@@ -309,6 +309,25 @@ impl Run {
         Ok(())
     }
 
+    /// The usual files of the state now, into `dir` (created if missing), the run going on:
+    /// `series.csv` so far and the probes' files, `profile.csv` at the current time (with
+    /// the analytic columns where the scene has a reference), and the particles as
+    /// `state.vtu`.
+    pub fn write_outputs(&mut self, dir: &std::path::Path) -> Result<()> {
+        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+        io::write_atomic(
+            &dir.join("series.csv"),
+            io::series_csv(&self.rows).as_bytes(),
+        )?;
+        self.probes.write(dir)?;
+        let reference = self.reference.as_mut().map_err(|e| e.as_str());
+        let (_, stresses) = errors::final_errors(&self.sim, reference, &self.rows, self.last_dt);
+        let profile =
+            errors::profile_csv(&self.sim, self.reference.as_mut().ok(), stresses.as_ref());
+        io::write_atomic(&dir.join("profile.csv"), profile.as_bytes())?;
+        io::write_atomic(&dir.join("state.vtu"), &vtk::snapshot(&self.sim))
+    }
+
     fn flush(&mut self) -> Result<()> {
         let t0 = Instant::now();
         self.write_series()?;

@@ -850,6 +850,39 @@ impl Simulation {
         }
     }
 
+    /// Steers prescribed disc `k`: its velocity V and spin Ω from the next step on, as if the
+    /// case had given them (its centre moves by V δt a step, its surface drags the fluid).
+    /// Refused, with the reason, for a disc the fluid moves (free or free-rotation: their
+    /// motion is the result) and in the Eulerian frame, whose mirrors are built once.
+    pub fn set_disc_motion(&mut self, k: usize, velocity: Vec2, spin: f64) -> Result<(), String> {
+        let count = self.stages.bodies.discs.len();
+        let moving_frame = self.scheme.frame.moves_particles();
+        let disc = self
+            .stages
+            .bodies
+            .discs
+            .get_mut(k)
+            .ok_or_else(|| format!("there is no disc {k} (the scene has {count})"))?;
+        if disc.motion != crate::engine::bodies::Motion::Prescribed {
+            return Err(format!(
+                "disc {k} moves under the fluid's load ({:?}); only a prescribed disc is steered",
+                disc.motion
+            ));
+        }
+        if !moving_frame {
+            return Err("the Eulerian frame builds the discs' mirrors once".into());
+        }
+        if !(velocity.x.is_finite() && velocity.y.is_finite() && spin.is_finite()) {
+            return Err(format!(
+                "velocity and spin must be finite, got [{}, {}] and {spin}",
+                velocity.x, velocity.y
+            ));
+        }
+        disc.velocity = velocity;
+        disc.spin = spin;
+        Ok(())
+    }
+
     /// The solid walls that create mirror particles.
     pub fn walls(&self) -> &[crate::engine::boundary::Wall] {
         &self.stages.hood.ghosts.walls
