@@ -1,10 +1,10 @@
 //! The frame of the ALE formulation (King & Lind §III A): particles that move with the fluid
 //! and the shifting velocity (Lagrangian), or particles held fixed (Eulerian, u_ps = −u).
 //! Steps 1 and 7 of the time step are the frame's; the Eulerian frame omits both and builds
-//! its neighbour lists, kernel sums and PPE matrix once.
+//! its neighbour lists, kernel sums and PPE matrix once. Written for D = 2 or 3 dimensions.
 
-use crate::engine::math::Vec2;
 use crate::engine::neighbours::Domain;
+use nalgebra::SVector;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -20,13 +20,13 @@ pub enum Frame {
 
 /// The velocities that move a particle over a step, eq. (27).
 #[derive(Clone, Copy)]
-pub struct StepVelocities<'a> {
+pub struct StepVelocities<'a, const D: usize = 2> {
     /// u^n.
-    pub old: &'a [Vec2],
+    pub old: &'a [SVector<f64, D>],
     /// u^{n+1}.
-    pub new: &'a [Vec2],
+    pub new: &'a [SVector<f64, D>],
     /// The shift velocity u_ps.
-    pub shift: &'a [Vec2],
+    pub shift: &'a [SVector<f64, D>],
 }
 
 impl Frame {
@@ -38,13 +38,13 @@ impl Frame {
 
     /// Step 1, eq. (23): the positions r* at which step 2 builds its neighbourhoods,
     /// r^n + δt u^n, or r^n for fixed particles.
-    pub fn intermediate_positions(
+    pub fn intermediate_positions<const D: usize>(
         self,
-        domain: &Domain,
-        position: &[Vec2],
-        velocity: &[Vec2],
+        domain: &Domain<D>,
+        position: &[SVector<f64, D>],
+        velocity: &[SVector<f64, D>],
         dt: f64,
-        out: &mut Vec<Vec2>,
+        out: &mut Vec<SVector<f64, D>>,
     ) {
         out.clear();
         match self {
@@ -60,11 +60,11 @@ impl Frame {
 
     /// Step 7, eq. (27): r^{n+1} = r^n + δt/2 (u^n + u^{n+1} + 2u_ps) (nothing for fixed
     /// particles).
-    pub fn advance_positions(
+    pub fn advance_positions<const D: usize>(
         self,
-        domain: &Domain,
-        position: &mut [Vec2],
-        u: StepVelocities,
+        domain: &Domain<D>,
+        position: &mut [SVector<f64, D>],
+        u: StepVelocities<D>,
         dt: f64,
     ) {
         if self == Frame::Eulerian {
