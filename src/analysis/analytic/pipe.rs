@@ -86,24 +86,16 @@ pub struct StartupPipe {
     j1_at_zeros: Vec<f64>,
 }
 
-/// Time-dependent mode amplitudes at one instant, pre-multiplied by their series factors (6):
-/// `u_coeff[n] = 8G_n/(α³J1(α))`, `tau_coeff[n] = 8H_n/(α²J1(α))`. Trailing modes whose summed
-/// magnitudes fall below [`TAIL_TOLERANCE`] are dropped, as in `waters_king`.
-#[derive(Clone, Debug, Default)]
-pub struct Modes {
-    pub u_coeff: Vec<f64>,
-    pub tau_coeff: Vec<f64>,
-}
+/// The mode amplitudes at one instant ([`Modes`], the channel's type), pre-multiplied by their
+/// series factors (6): `u_coeff[n] = 8G_n/(α³J1(α))`, `tau_coeff[n] = 8H_n/(α²J1(α))`;
+/// trailing modes whose summed magnitudes (a rigorous bound on their contribution to u, ∂u/∂r
+/// and τ, since |J0|, |J1| ≤ 1) fall below [`TAIL_TOLERANCE`] are dropped, as in
+/// `waters_king`. The series are capped at [`MAX_TERMS`] (UCM, whose tail decays like 1/M),
+/// τ_zz's forcing at [`NORMAL_STRESS_TERMS`].
+pub use super::waters_king::{Modes, MAX_TERMS, NORMAL_STRESS_TERMS, TAIL_TOLERANCE};
 
-/// Largest number of series terms used by default (UCM, whose tail decays like 1/M).
-const MAX_TERMS: usize = 20_000;
 /// Default target for the velocity series truncation error.
 const VELOCITY_TOLERANCE: f64 = 1e-6;
-/// Series terms used in the forcing of the τ_zz integration (as in `waters_king`).
-const NORMAL_STRESS_TERMS: usize = 2000;
-/// Modes are dropped from the end while the sum of their |coefficients| (a rigorous bound on
-/// their contribution to u, ∂u/∂r and τ, since |J0|, |J1| ≤ 1) stays below this.
-pub const TAIL_TOLERANCE: f64 = 1e-10;
 
 impl StartupPipe {
     /// `wi = 0` is the Newtonian fluid (β is then irrelevant and taken as 1).

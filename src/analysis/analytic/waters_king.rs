@@ -50,11 +50,11 @@ pub struct Modes {
 }
 
 /// Largest number of series terms used by default (UCM at its shear-wave cusps).
-const MAX_TERMS: usize = 20_000;
+pub const MAX_TERMS: usize = 20_000;
 /// Default bound on the velocity series truncation error.
 const VELOCITY_TOLERANCE: f64 = 1e-6;
 /// Series terms used in the forcing of the τ_xx integration.
-const NORMAL_STRESS_TERMS: usize = 2000;
+pub const NORMAL_STRESS_TERMS: usize = 2000;
 /// Modes are dropped from the end while the sum of their |coefficients| (a rigorous bound on
 /// their contribution, |sin|, |cos| ≤ 1) stays below this.
 pub const TAIL_TOLERANCE: f64 = 1e-10;

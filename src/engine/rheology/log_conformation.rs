@@ -420,26 +420,17 @@ mod tests {
         }
     }
 
-    /// The 3D decomposition reproduces d(ln A)/dt for dA/dt = ∇u·A + A·∇uᵀ under a fully 3D
-    /// ∇u: against a central difference of the matrix logarithm along the exact flow
-    /// (truncation O(ε²) ≈ 1e-12 times the third derivative; round-off, the entries' 1e-16
-    /// relative error over the smallest eigenvalue and ε, 1e-16·500/0.2/1e-6 ≈ 3e-7 for the
-    /// stretched A, under the 1e-6 bound), for A = I, a double eigenvalue, a near-triple one
-    /// and a stretched, rotated A.
-    #[test]
-    fn the_3d_convective_term_is_the_derivative_of_log_a() {
-        let grad = Mat3::new(0.3, 1.7, -0.2, -0.4, -0.5, 0.6, 0.9, 0.1, 0.2);
-        let r = nalgebra::Rotation3::from_euler_angles(0.4, -0.8, 1.1);
-        let stretched = Mat3::from_diagonal(&nalgebra::Vector3::new(500.0, 3.0, 0.2));
-        for a in [
-            Sym3::IDENTITY,
-            Sym3::new(2.0, 0.0, 0.0, 2.0, 0.0, 1.0),
-            Sym3::new(1.0 + 1e-9, 0.0, 1e-10, 1.0, 0.0, 1.0),
-            Sym3::sym_part(&(r.matrix() * stretched * r.matrix().transpose())),
-        ] {
-            let rate = |a: &Sym3| {
+    /// That the decomposition reproduces d(ln A)/dt for dA/dt = ∇u·A + A·∇uᵀ: against a
+    /// central difference of the matrix logarithm along the exact flow, ε = 1e-6, within
+    /// 1e-6 relative.
+    fn assert_convective_term_is_the_derivative_of_log_a<S: SymTensor>(
+        grad: S::Matrix,
+        cases: &[S],
+    ) {
+        for &a in cases {
+            let rate = |a: &S| {
                 let s = grad * a.to_mat();
-                Sym3::sym_part(&(s + s.transpose()))
+                S::sym_part(&(s + S::transpose(&s)))
             };
             let eps = 1e-6;
             let plus = (a + rate(&a) * eps).log();
@@ -452,6 +443,37 @@ mod tests {
                 "A = {a:?}: {fd:?} vs {exact:?}"
             );
         }
+    }
+
+    /// In 2D, including the degenerate A = I and a strongly stretched A.
+    #[test]
+    fn log_convective_term_is_the_derivative_of_log_a() {
+        let grad = Mat2::new(0.3, 1.7, -0.4, -0.3);
+        let cases = [
+            Sym2::IDENTITY,
+            Sym2::new(2.0, 0.5, 1.0),
+            Sym2::new(1.0 + 1e-9, 0.0, 1.0),
+            Sym2::new(5e4, 220.0, 1.0),
+        ];
+        assert_convective_term_is_the_derivative_of_log_a(grad, &cases);
+    }
+
+    /// In 3D under a fully 3D ∇u (truncation O(ε²) ≈ 1e-12 times the third derivative;
+    /// round-off, the entries' 1e-16 relative error over the smallest eigenvalue and ε,
+    /// 1e-16·500/0.2/1e-6 ≈ 3e-7 for the stretched A, under the bound), for A = I, a double
+    /// eigenvalue, a near-triple one and a stretched, rotated A.
+    #[test]
+    fn the_3d_convective_term_is_the_derivative_of_log_a() {
+        let grad = Mat3::new(0.3, 1.7, -0.2, -0.4, -0.5, 0.6, 0.9, 0.1, 0.2);
+        let r = nalgebra::Rotation3::from_euler_angles(0.4, -0.8, 1.1);
+        let stretched = Mat3::from_diagonal(&nalgebra::Vector3::new(500.0, 3.0, 0.2));
+        let cases = [
+            Sym3::IDENTITY,
+            Sym3::new(2.0, 0.0, 0.0, 2.0, 0.0, 1.0),
+            Sym3::new(1.0 + 1e-9, 0.0, 1e-10, 1.0, 0.0, 1.0),
+            Sym3::sym_part(&(r.matrix() * stretched * r.matrix().transpose())),
+        ];
+        assert_convective_term_is_the_derivative_of_log_a(grad, &cases);
     }
 
     /// Start-up of uniaxial extension, ∇u = ε̇ diag(1, −½, −½), of an Oldroyd-B fluid in 3D,

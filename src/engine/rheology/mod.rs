@@ -176,35 +176,6 @@ mod tests {
     use super::*;
     use crate::engine::math::Mat2;
 
-    /// The decomposition must reproduce d(ln A)/dt for dA/dt = ∇u·A + A·∇uᵀ: compare with a
-    /// central difference of the matrix logarithm along the exact flow, including the
-    /// degenerate A = I and a strongly stretched A.
-    #[test]
-    fn log_convective_term_is_the_derivative_of_log_a() {
-        let grad = Mat2::new(0.3, 1.7, -0.4, -0.3);
-        for a in [
-            Sym2::IDENTITY,
-            Sym2::new(2.0, 0.5, 1.0),
-            Sym2::new(1.0 + 1e-9, 0.0, 1.0),
-            Sym2::new(5e4, 220.0, 1.0),
-        ] {
-            let rate = |a: &Sym2| {
-                let s = grad * a.to_mat();
-                Sym2::sym_part(&(s + s.transpose()))
-            };
-            let eps = 1e-6;
-            let plus = (a + rate(&a) * eps).log();
-            let minus = (a - rate(&a) * eps).log();
-            let fd = (plus - minus) * (0.5 / eps);
-            let exact = log_convective_term(&a, &grad);
-            let err = (fd - exact).contract(&(fd - exact)).sqrt();
-            assert!(
-                err < 1e-6 * (1.0 + exact.contract(&exact).sqrt()),
-                "A = {a:?}: {fd:?} vs {exact:?}"
-            );
-        }
-    }
-
     /// The quasi-analytic source step is the exact relaxation of a uniform A.
     #[test]
     fn source_step_is_exact_relaxation() {
