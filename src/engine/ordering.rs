@@ -5,8 +5,9 @@
 //! Reordering permutes the particles only; physics is unchanged except for the order of
 //! floating-point sums over neighbours (round-off; see `tests/reordering.rs`).
 
-use crate::engine::math::{Sym2, Vec2};
+use crate::engine::dimension::{Dim, Dimension};
 use crate::engine::neighbours::Domain;
+use nalgebra::SVector;
 
 /// Steps between Morton reorderings of moving particles: they move a fraction of δr per
 /// step, so locality decays slowly.
@@ -41,34 +42,52 @@ impl Reordering {
     }
 }
 
-/// Interleaves the bits of two 16-bit cell coordinates.
-fn morton(x: u32, y: u32) -> u64 {
-    fn spread(v: u32) -> u64 {
-        let mut v = v as u64 & 0xffff;
-        v = (v | (v << 8)) & 0x00ff_00ff;
-        v = (v | (v << 4)) & 0x0f0f_0f0f;
-        v = (v | (v << 2)) & 0x3333_3333;
-        v = (v | (v << 1)) & 0x5555_5555;
-        v
+/// Interleaves the low 16 bits of D cell coordinates, the first axis in the lowest bit.
+fn morton<const D: usize>(cells: [u32; D]) -> u64 {
+    let mut key = 0;
+    for bit in 0..16 {
+        for (a, &c) in cells.iter().enumerate() {
+            key |= ((c as u64 >> bit) & 1) << (bit * D + a);
+        }
     }
-    spread(x) | (spread(y) << 1)
+    key
 }
 
 /// Reusable buffers of the reordering.
-#[derive(Default)]
-pub struct Reorder {
+pub struct Reorder<const D: usize = 2>
+where
+    Dim<D>: Dimension<D>,
+{
     keys: Vec<(u64, u32)>,
-    vec2: Vec<Vec2>,
+    vectors: Vec<SVector<f64, D>>,
     scalar: Vec<f64>,
-    sym: Vec<Sym2>,
+    sym: Vec<<Dim<D> as Dimension<D>>::Sym>,
     flags: Vec<bool>,
 }
 
-impl Reorder {
+impl<const D: usize> Default for Reorder<D>
+where
+    Dim<D>: Dimension<D>,
+{
+    fn default() -> Self {
+        Self {
+            keys: Vec::new(),
+            vectors: Vec::new(),
+            scalar: Vec::new(),
+            sym: Vec::new(),
+            flags: Vec::new(),
+        }
+    }
+}
+
+impl<const D: usize> Reorder<D>
+where
+    Dim<D>: Dimension<D>,
+{
     /// Heap bytes held.
     pub fn heap_bytes(&self) -> usize {
         crate::engine::vec_bytes(&self.keys)
-            + crate::engine::vec_bytes(&self.vec2)
+            + crate::engine::vec_bytes(&self.vectors)
             + crate::engine::vec_bytes(&self.scalar)
             + crate::engine::vec_bytes(&self.sym)
             + crate::engine::vec_bytes(&self.flags)
@@ -76,13 +95,21 @@ impl Reorder {
 
     /// Computes the Morton order of `positions` over cells of width `cell`; returns false if
     /// the particles are already in that order (nothing to permute).
-    pub fn compute(&mut self, domain: &Domain, positions: &[Vec2], cell: f64) -> bool {
+    pub fn compute(
+        &mut self,
+        domain: &Domain<D>,
+        positions: &[SVector<f64, D>],
+        cell: f64,
+    ) -> bool {
         self.keys.clear();
         self.keys.extend(positions.iter().enumerate().map(|(i, p)| {
             let c = (p - domain.min) / cell;
-            let cx = c.x.max(0.0) as u32;
-            let cy = (c.y + 4.0).max(0.0) as u32; // walls' mirrors may sit below min.y
-            (morton(cx, cy), i as u32)
+            // Walls' mirrors may sit below the box along the axes after the first.
+            let cells = std::array::from_fn(|a| {
+                let margin = if a == 0 { 0.0 } else { 4.0 };
+                (c[a] + margin).max(0.0) as u32
+            });
+            (morton::<D>(cells), i as u32)
         }));
         if self.keys.windows(2).all(|w| w[0] <= w[1]) {
             return false;
@@ -92,8 +119,8 @@ impl Reorder {
     }
 
     /// Applies the last computed order to one array.
-    pub fn apply_vec2(&mut self, data: &mut [Vec2]) {
-        permute(&self.keys, data, &mut self.vec2);
+    pub fn apply_vec2(&mut self, data: &mut [SVector<f64, D>]) {
+        permute(&self.keys, data, &mut self.vectors);
     }
 
     pub fn apply_scalar(&mut self, data: &mut [f64]) {
@@ -104,7 +131,7 @@ impl Reorder {
         permute(&self.keys, data, &mut self.flags);
     }
 
-    pub fn apply_sym(&mut self, data: &mut [Sym2]) {
+    pub fn apply_sym(&mut self, data: &mut [<Dim<D> as Dimension<D>>::Sym]) {
         permute(&self.keys, data, &mut self.sym);
     }
 }
@@ -121,14 +148,22 @@ fn permute<T: Copy>(keys: &[(u64, u32)], data: &mut [T], scratch: &mut Vec<T>) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::engine::math::Vec2;
 
     #[test]
     fn morton_order_interleaves_bits() {
-        assert_eq!(morton(0, 0), 0);
-        assert_eq!(morton(1, 0), 1);
-        assert_eq!(morton(0, 1), 2);
-        assert_eq!(morton(3, 3), 15);
-        assert_eq!(morton(2, 0), 4);
+        assert_eq!(morton([0, 0]), 0);
+        assert_eq!(morton([1, 0]), 1);
+        assert_eq!(morton([0, 1]), 2);
+        assert_eq!(morton([3, 3]), 15);
+        assert_eq!(morton([2, 0]), 4);
+        assert_eq!(morton([0xffff, 0]), 0x5555_5555);
+        assert_eq!(morton([0x1_0000, 0]), 0, "16 bits per axis");
+        // In space: x in bit 0, y in bit 1, z in bit 2 of each triple.
+        assert_eq!(morton([1, 0, 0]), 1);
+        assert_eq!(morton([0, 1, 0]), 2);
+        assert_eq!(morton([0, 0, 1]), 4);
+        assert_eq!(morton([2, 1, 3]), 0b101_110);
     }
 
     #[test]

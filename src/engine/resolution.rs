@@ -21,8 +21,8 @@
 //! area); the first wall that claims a point decides, and the bulk takes the rest.
 
 use crate::engine::boundary::Shape;
-use crate::engine::math::Vec2;
 use crate::engine::neighbours::Domain;
+use nalgebra::SVector;
 
 /// The ratio of neighbouring layers' spacings: 1.25 changes the spacing by a quarter from one
 /// layer to the next, within a smoothing length of each other's supports.
@@ -45,8 +45,8 @@ pub struct Layer {
 
 /// A wall and its layers, innermost first.
 #[derive(Clone, Debug, PartialEq)]
-pub struct WallLayers {
-    pub shape: Shape,
+pub struct WallLayers<const D: usize = 2> {
+    pub shape: Shape<D>,
     pub layers: Vec<Layer>,
 }
 
@@ -64,22 +64,22 @@ pub fn graded_spacings(spacing: f64, refinement: f64) -> Vec<f64> {
 
 /// The layout of a run's particles.
 #[derive(Clone, Debug, Default, PartialEq)]
-pub enum Resolution {
-    /// One spacing δr and volume δr² for every particle.
+pub enum Resolution<const D: usize = 2> {
+    /// One spacing δr and volume δr^D for every particle.
     #[default]
     Uniform,
-    Graded(Graded),
+    Graded(Graded<D>),
 }
 
 /// Graded layers along walls, a uniform bulk elsewhere.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Graded {
-    pub walls: Vec<WallLayers>,
+pub struct Graded<const D: usize = 2> {
+    pub walls: Vec<WallLayers<D>>,
     pub bulk: Local,
 }
 
-impl Resolution {
-    pub fn graded(&self) -> Option<&Graded> {
+impl<const D: usize> Resolution<D> {
+    pub fn graded(&self) -> Option<&Graded<D>> {
         match self {
             Resolution::Uniform => None,
             Resolution::Graded(g) => Some(g),
@@ -87,9 +87,9 @@ impl Resolution {
     }
 }
 
-impl Graded {
+impl<const D: usize> Graded<D> {
     /// The spacing and volume of a particle at `p`.
-    pub fn at(&self, p: &Vec2, domain: &Domain) -> Local {
+    pub fn at(&self, p: &SVector<f64, D>, domain: &Domain<D>) -> Local {
         for wall in &self.walls {
             let q = wall.shape.nearest_image(p, Some(domain));
             let d = wall.shape.distance(&q);
@@ -113,6 +113,7 @@ impl Graded {
 mod tests {
     use super::*;
     use crate::engine::boundary::Plane;
+    use crate::engine::math::Vec2;
 
     /// δr/4 grows by 1.25 a layer: 0.25, 0.3125, 0.39, 0.49, 0.61, 0.76, 0.95 (< 1).
     #[test]

@@ -12,17 +12,27 @@
 //! [`super::Ghosts`]' extensions. A condition is a type implementing [`WallCondition`]; a
 //! [`super::Wall`] is a shape with a condition.
 
-use crate::engine::math::{Mat2, Sym2, Vec2};
+use crate::engine::dimension::{Dim, Dimension, SymTensor};
+use crate::engine::math::{Sym2, Vec2};
+use nalgebra::{SMatrix, SVector};
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
-/// What a wall imposes on the values of its mirrors.
-pub trait WallCondition: fmt::Debug + Send + Sync {
+/// A point in D dimensions.
+type Point<const D: usize> = SVector<f64, D>;
+/// The symmetric tensor of D dimensions.
+type Sym<const D: usize> = <Dim<D> as Dimension<D>>::Sym;
+
+/// What a wall imposes on the values of its mirrors, in D dimensions (the default 2).
+pub trait WallCondition<const D: usize = 2>: fmt::Debug + Send + Sync
+where
+    Dim<D>: Dimension<D>,
+{
     /// s of `u_j = s u_i + b_j`.
     fn velocity_sign(&self) -> f64;
     /// b_j at a mirror point (zero for a wall at rest).
-    fn velocity_offset(&self, _mirror: Vec2) -> Vec2 {
-        Vec2::zeros()
+    fn velocity_offset(&self, _mirror: Point<D>) -> Point<D> {
+        Point::<D>::zeros()
     }
     /// Whether b is not zero anywhere (so that it must be added at all).
     fn moves(&self) -> bool {
@@ -33,7 +43,7 @@ pub trait WallCondition: fmt::Debug + Send + Sync {
         1.0
     }
     /// The mirror's tensor from its parent's; `normal` is the wall normal between them.
-    fn tensor(&self, parent: &Sym2, normal: &Vec2) -> Sym2;
+    fn tensor(&self, parent: &Sym<D>, normal: &Point<D>) -> Sym<D>;
     /// Whether the parent's tensor is first continued linearly to the mirror
     /// ([`TensorMirror::Linear`]).
     fn continues_tensor(&self) -> bool {
@@ -82,16 +92,20 @@ pub struct NoSlip {
     pub tensor: TensorMirror,
 }
 
-impl WallCondition for NoSlip {
+impl<const D: usize> WallCondition<D> for NoSlip
+where
+    Dim<D>: Dimension<D>,
+{
     fn velocity_sign(&self) -> f64 {
         -1.0
     }
 
-    fn tensor(&self, parent: &Sym2, normal: &Vec2) -> Sym2 {
+    fn tensor(&self, parent: &Sym<D>, normal: &Point<D>) -> Sym<D> {
         match self.tensor {
             TensorMirror::Even | TensorMirror::Linear => *parent,
             TensorMirror::Reflected => {
-                let reflection = Mat2::identity() - 2.0 * normal * normal.transpose();
+                let reflection =
+                    SMatrix::<f64, D, D>::identity() - 2.0 * normal * normal.transpose();
                 parent.congruence(&reflection)
             }
         }
@@ -106,25 +120,28 @@ impl WallCondition for NoSlip {
 /// velocity on the wall is u_w to second order; pressure and conformation as [`NoSlip`].
 /// The wall velocity must be tangential (a plane wall does not move through the fluid).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SlidingNoSlip {
+pub struct SlidingNoSlip<const D: usize = 2> {
     pub tensor: TensorMirror,
-    pub velocity: Vec2,
+    pub velocity: Point<D>,
 }
 
-impl WallCondition for SlidingNoSlip {
+impl<const D: usize> WallCondition<D> for SlidingNoSlip<D>
+where
+    Dim<D>: Dimension<D>,
+{
     fn velocity_sign(&self) -> f64 {
         -1.0
     }
 
-    fn velocity_offset(&self, _mirror: Vec2) -> Vec2 {
+    fn velocity_offset(&self, _mirror: Point<D>) -> Point<D> {
         2.0 * self.velocity
     }
 
     fn moves(&self) -> bool {
-        self.velocity != Vec2::zeros()
+        self.velocity != Point::<D>::zeros()
     }
 
-    fn tensor(&self, parent: &Sym2, normal: &Vec2) -> Sym2 {
+    fn tensor(&self, parent: &Sym<D>, normal: &Point<D>) -> Sym<D> {
         NoSlip {
             tensor: self.tensor,
         }
@@ -194,25 +211,34 @@ impl WallCondition for RigidNoSlip {
 /// wall (perpendicular reflections commute); pressure factor s_p₁s_p₂; the tensor mapped by
 /// one condition, then the other.
 #[derive(Debug)]
-pub struct Corner {
-    pub first: (super::Plane, std::sync::Arc<dyn WallCondition>),
-    pub second: (super::Plane, std::sync::Arc<dyn WallCondition>),
+pub struct Corner<const D: usize = 2>
+where
+    Dim<D>: Dimension<D>,
+{
+    pub first: (super::Plane, std::sync::Arc<dyn WallCondition<D>>),
+    pub second: (super::Plane, std::sync::Arc<dyn WallCondition<D>>),
 }
 
-impl Corner {
-    fn unit_normal(plane: &super::Plane) -> Vec2 {
-        let mut n = Vec2::zeros();
+impl<const D: usize> Corner<D>
+where
+    Dim<D>: Dimension<D>,
+{
+    fn unit_normal(plane: &super::Plane) -> Point<D> {
+        let mut n = Point::<D>::zeros();
         n[plane.axis] = 1.0;
         n
     }
 }
 
-impl WallCondition for Corner {
+impl<const D: usize> WallCondition<D> for Corner<D>
+where
+    Dim<D>: Dimension<D>,
+{
     fn velocity_sign(&self) -> f64 {
         self.first.1.velocity_sign() * self.second.1.velocity_sign()
     }
 
-    fn velocity_offset(&self, mirror: Vec2) -> Vec2 {
+    fn velocity_offset(&self, mirror: Point<D>) -> Point<D> {
         let first_mirror = self.second.0.reflect(&mirror);
         self.second.1.velocity_sign() * self.first.1.velocity_offset(first_mirror)
             + self.second.1.velocity_offset(mirror)
@@ -226,7 +252,7 @@ impl WallCondition for Corner {
         self.first.1.pressure_sign() * self.second.1.pressure_sign()
     }
 
-    fn tensor(&self, parent: &Sym2, _normal: &Vec2) -> Sym2 {
+    fn tensor(&self, parent: &Sym<D>, _normal: &Point<D>) -> Sym<D> {
         let once = self
             .first
             .1
@@ -263,20 +289,25 @@ impl RegularisedLid {
     }
 }
 
-impl WallCondition for RegularisedLid {
+impl<const D: usize> WallCondition<D> for RegularisedLid
+where
+    Dim<D>: Dimension<D>,
+{
     fn velocity_sign(&self) -> f64 {
         -1.0
     }
 
-    fn velocity_offset(&self, mirror: Vec2) -> Vec2 {
-        Vec2::new(2.0 * self.velocity_at(mirror.x), 0.0)
+    fn velocity_offset(&self, mirror: Point<D>) -> Point<D> {
+        let mut b = Point::<D>::zeros();
+        b[0] = 2.0 * self.velocity_at(mirror[0]);
+        b
     }
 
     fn moves(&self) -> bool {
         self.speed != 0.0
     }
 
-    fn tensor(&self, parent: &Sym2, normal: &Vec2) -> Sym2 {
+    fn tensor(&self, parent: &Sym<D>, normal: &Point<D>) -> Sym<D> {
         NoSlip {
             tensor: self.tensor,
         }

@@ -10,11 +10,17 @@
 //! compression of the continuity equation, vanish; a particle pushed by the fluid above
 //! creeps through the wall. A fixed lattice keeps a row of points δr/2 behind the wall
 //! whatever the fluid does.
+//!
+//! The lattices are written for the plane (a row of columns, rings); their types take the
+//! dimension so that the walls do, but a 3D set-up refuses `scheme.walls.model = "fixed-ghost"`.
 
 use super::{Circle, Plane, Shape};
-use crate::engine::math::Vec2;
 use crate::engine::neighbours::Domain;
+use nalgebra::SVector;
 use serde::{Deserialize, Serialize};
+
+/// A point in D dimensions.
+type Point<const D: usize> = SVector<f64, D>;
 
 /// How the particles behind a wall are placed.
 #[derive(
@@ -35,26 +41,31 @@ pub type NearParticle = (f64, f64, u32);
 
 /// One fixed ghost of a plane wall: its position and its parent.
 #[derive(Clone, Copy, Debug)]
-pub struct FixedGhost {
-    pub position: Vec2,
+pub struct FixedGhost<const D: usize = 2> {
+    pub position: Point<D>,
     pub parent: u32,
     /// The wall's unit normal at the point.
-    pub normal: Vec2,
+    pub normal: Point<D>,
 }
 
 /// The lattice of a plane: columns at (k + ½)δr along the wall from the box's corner, rows at
 /// (m + ½)δr behind it, m while (m + ½)δr < `reach`.
-pub struct Lattice<'a> {
+pub struct Lattice<'a, const D: usize = 2> {
     pub plane: &'a Plane,
     pub spacing: f64,
     pub reach: f64,
-    pub domain: Option<&'a Domain>,
+    pub domain: Option<&'a Domain<D>>,
 }
 
-impl Lattice<'_> {
+impl<const D: usize> Lattice<'_, D> {
     /// Appends to `out` every lattice point with a fluid particle within δr of its mirror
     /// point. `near` is scratch (reused between steps).
-    pub fn ghosts(&self, points: &[Vec2], near: &mut Vec<NearParticle>, out: &mut Vec<FixedGhost>) {
+    pub fn ghosts(
+        &self,
+        points: &[Point<D>],
+        near: &mut Vec<NearParticle>,
+        out: &mut Vec<FixedGhost<D>>,
+    ) {
         let (plane, dr) = (self.plane, self.spacing);
         let t = 1 - plane.axis;
         near.clear();
@@ -83,13 +94,13 @@ impl Lattice<'_> {
             for m in 0..rows {
                 let d = (m as f64 + 0.5) * dr;
                 if let Some(parent) = nearest(near, s, d, dr, period) {
-                    let mut position = Vec2::zeros();
+                    let mut position = Point::<D>::zeros();
                     position[t] = s;
                     position[plane.axis] = plane.position - plane.fluid_side * d;
                     out.push(FixedGhost {
                         position,
                         parent,
-                        normal: Shape::Plane(*plane).normal(&position),
+                        normal: Shape::<D>::Plane(*plane).normal(&position),
                     });
                 }
             }
@@ -99,17 +110,22 @@ impl Lattice<'_> {
 
 /// The rings of a circle: radii R − (m + ½)δr while (m + ½)δr < `reach` (and the radius stays
 /// above δr/2), each with round(2πr/δr) points at equal angles from the x axis.
-pub struct Rings<'a> {
-    pub circle: &'a Circle,
+pub struct Rings<'a, const D: usize = 2> {
+    pub circle: &'a Circle<D>,
     pub spacing: f64,
     pub reach: f64,
-    pub domain: Option<&'a Domain>,
+    pub domain: Option<&'a Domain<D>>,
 }
 
-impl Rings<'_> {
+impl<const D: usize> Rings<'_, D> {
     /// Appends to `out` every ring point with a fluid particle within δr of its mirror point
     /// (positions wrapped into the box). `near` is scratch: (x, y) relative to the centre.
-    pub fn ghosts(&self, points: &[Vec2], near: &mut Vec<NearParticle>, out: &mut Vec<FixedGhost>) {
+    pub fn ghosts(
+        &self,
+        points: &[Point<D>],
+        near: &mut Vec<NearParticle>,
+        out: &mut Vec<FixedGhost<D>>,
+    ) {
         let (c, dr) = (self.circle, self.spacing);
         near.clear();
         for (i, p) in points.iter().enumerate() {
@@ -117,7 +133,7 @@ impl Rings<'_> {
                 .domain
                 .map_or(p - c.centre, |d| d.min_image(p - c.centre));
             if r.norm() - c.radius < self.reach + dr {
-                near.push((r.x, r.y, i as u32));
+                near.push((r[0], r[1], i as u32));
             }
         }
         if near.is_empty() {
@@ -130,11 +146,12 @@ impl Rings<'_> {
             let count = (std::f64::consts::TAU * radius / dr).round().max(1.0) as usize;
             for k in 0..count {
                 let angle = std::f64::consts::TAU * k as f64 / count as f64;
-                let dir = Vec2::new(angle.cos(), angle.sin());
+                let mut dir = Point::<D>::zeros();
+                (dir[0], dir[1]) = (angle.cos(), angle.sin());
                 let target = dir * image;
                 let best = near
                     .iter()
-                    .map(|q| ((q.0 - target.x).powi(2) + (q.1 - target.y).powi(2), q.2))
+                    .map(|q| ((q.0 - target[0]).powi(2) + (q.1 - target[1]).powi(2), q.2))
                     .filter(|(r2, _)| *r2 <= dr * dr)
                     .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
                 if let Some((_, parent)) = best {
@@ -174,14 +191,14 @@ fn nearest(near: &[NearParticle], s: f64, d: f64, radius: f64, period: Option<f6
 }
 
 /// Appends the fixed ghosts of one wall of `shape` (module docs) to `out`.
-pub fn ghosts_of(
-    shape: &Shape,
+pub fn ghosts_of<const D: usize>(
+    shape: &Shape<D>,
     spacing: f64,
     reach: f64,
-    domain: Option<&Domain>,
-    points: &[Vec2],
+    domain: Option<&Domain<D>>,
+    points: &[Point<D>],
     near: &mut Vec<NearParticle>,
-    out: &mut Vec<FixedGhost>,
+    out: &mut Vec<FixedGhost<D>>,
 ) {
     match shape {
         Shape::Plane(plane) => Lattice {
@@ -207,6 +224,7 @@ pub fn ghosts_of(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::engine::math::Vec2;
 
     #[test]
     fn lattice_points_take_the_particle_nearest_their_mirror_point() {

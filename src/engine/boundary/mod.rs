@@ -20,8 +20,9 @@ pub use continuation::VelocityExtension;
 pub use fixed::WallModel;
 pub use shape::{Circle, Corner, Plane, Plate, Shape};
 
-use crate::engine::math::{Sym2, Vec2};
+use crate::engine::dimension::{Dim, Dimension, SymTensor};
 use crate::engine::neighbours::Domain;
+use nalgebra::SVector;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
@@ -73,19 +74,30 @@ pub enum WallVelocityChoice {
 const NO_WALL: u16 = u16::MAX;
 const SHARED: u16 = u16::MAX - 1;
 
-/// A solid wall: a shape with a condition.
+/// A point in D dimensions.
+type Point<const D: usize> = SVector<f64, D>;
+/// The symmetric tensor of D dimensions.
+type Sym<const D: usize> = <Dim<D> as Dimension<D>>::Sym;
+
+/// A solid wall: a shape with a condition, in D dimensions (the default 2).
 #[derive(Clone, Debug)]
-pub struct Wall {
-    pub shape: Shape,
-    pub condition: Arc<dyn WallCondition>,
+pub struct Wall<const D: usize = 2>
+where
+    Dim<D>: Dimension<D>,
+{
+    pub shape: Shape<D>,
+    pub condition: Arc<dyn WallCondition<D>>,
     /// The angle (radians, through the liquid) a free surface with surface tension meets
     /// this wall at where it is not the scene's (`Setup::contact_angle`).
     pub contact_angle: Option<f64>,
 }
 
-impl Wall {
+impl<const D: usize> Wall<D>
+where
+    Dim<D>: Dimension<D>,
+{
     /// A no-slip wall at rest carrying the conformation by `tensor`.
-    pub fn no_slip(shape: Shape, tensor: TensorMirror) -> Self {
+    pub fn no_slip(shape: Shape<D>, tensor: TensorMirror) -> Self {
         Self {
             shape,
             condition: Arc::new(NoSlip { tensor }),
@@ -94,8 +106,8 @@ impl Wall {
     }
 
     /// A no-slip wall sliding at `velocity` (zero: [`Self::no_slip`]).
-    pub fn sliding(shape: Shape, tensor: TensorMirror, velocity: Vec2) -> Self {
-        if velocity == Vec2::zeros() {
+    pub fn sliding(shape: Shape<D>, tensor: TensorMirror, velocity: Point<D>) -> Self {
+        if velocity == Point::<D>::zeros() {
             return Self::no_slip(shape, tensor);
         }
         Self {
@@ -110,7 +122,7 @@ impl Wall {
     /// A moving wall is taken first, so that its velocity is read on its own side of the
     /// other wall ([`condition::Corner`]): across a wall at rest the lid's profile extends
     /// odd, as no slip there requires.
-    pub fn corner(a: &Wall, b: &Wall) -> Option<Wall> {
+    pub fn corner(a: &Wall<D>, b: &Wall<D>) -> Option<Wall<D>> {
         let (a, b) = if b.condition.moves() && !a.condition.moves() {
             (b, a)
         } else {
@@ -122,7 +134,7 @@ impl Wall {
         if pa.axis == pb.axis {
             return None;
         }
-        let (mut point, mut sides) = (Vec2::zeros(), [0.0; 2]);
+        let (mut point, mut sides) = (Point::<D>::zeros(), [0.0; D]);
         for p in [pa, pb] {
             point[p.axis] = p.position;
             sides[p.axis] = p.fluid_side;
@@ -138,12 +150,12 @@ impl Wall {
     }
 
     /// Signed distance of `p` from the wall, positive in the fluid.
-    pub fn distance(&self, p: &Vec2) -> f64 {
+    pub fn distance(&self, p: &Point<D>) -> f64 {
         self.shape.distance(p)
     }
 
     /// Signed distance of `p`'s periodic image nearest the wall.
-    pub fn distance_in(&self, p: &Vec2, domain: &Domain) -> f64 {
+    pub fn distance_in(&self, p: &Point<D>, domain: &Domain<D>) -> f64 {
         self.shape
             .distance(&self.shape.nearest_image(p, Some(domain)))
     }
@@ -158,32 +170,35 @@ pub enum Field {
 
 /// The mirror particles of one step: ghost g has parent fluid particle `parent[g]` and was
 /// mirrored across wall `wall[g]`.
-#[derive(Clone, Debug, Default)]
-pub struct Ghosts {
+#[derive(Clone, Debug)]
+pub struct Ghosts<const D: usize = 2>
+where
+    Dim<D>: Dimension<D>,
+{
     pub parent: Vec<u32>,
     /// The wall each ghost mirrors across (index into `walls`).
     pub wall: Vec<u16>,
     /// Each ghost's volume relative to its parent's.
     pub volume: Vec<f64>,
     /// The surface normal between each ghost and its parent.
-    pub normal: Vec<Vec2>,
+    pub normal: Vec<Point<D>>,
     /// r_g − r_k from each ghost's parent k to the ghost (the nearest periodic image).
-    pub arm: Vec<Vec2>,
+    pub arm: Vec<Point<D>>,
     /// b_j of `u_j = s u_i + b_j` (empty when every wall is at rest).
-    offset: Vec<Vec2>,
-    pub walls: Vec<Wall>,
+    offset: Vec<Point<D>>,
+    pub walls: Vec<Wall<D>>,
     /// Each wall's s and s_p (see [`condition`]).
     velocity_sign: Vec<f64>,
     pressure_sign: Vec<f64>,
     /// The box whose periodic axes circles are seen across (None: no periodic images).
-    pub domain: Option<Domain>,
+    pub domain: Option<Domain<D>>,
     /// δr of the fixed ghost lattice behind every wall (None: mirrors).
     lattice: Option<f64>,
     /// Scratch of the fixed lattice's nearest-particle search and its ghosts.
     near: Vec<fixed::NearParticle>,
-    lattice_ghosts: Vec<fixed::FixedGhost>,
+    lattice_ghosts: Vec<fixed::FixedGhost<D>>,
     /// The walls' shapes at the last build (for [`Self::drift`]).
-    built_shapes: Vec<Shape>,
+    built_shapes: Vec<Shape<D>>,
     /// How [`Self::continue_velocity`] extends a no-slip wall's velocity.
     velocity_extension: VelocityExtension,
     /// The continuations' stencils of the current configuration.
@@ -193,15 +208,45 @@ pub struct Ghosts {
     shared_parent: Vec<u16>,
 }
 
-/// One mirror's position and the values its wall gives it.
-struct Mirror {
-    position: Vec2,
-    volume: f64,
-    normal: Vec2,
-    offset: Vec2,
+impl<const D: usize> Default for Ghosts<D>
+where
+    Dim<D>: Dimension<D>,
+{
+    fn default() -> Self {
+        Self {
+            parent: Vec::new(),
+            wall: Vec::new(),
+            volume: Vec::new(),
+            normal: Vec::new(),
+            arm: Vec::new(),
+            offset: Vec::new(),
+            walls: Vec::new(),
+            velocity_sign: Vec::new(),
+            pressure_sign: Vec::new(),
+            domain: None,
+            lattice: None,
+            near: Vec::new(),
+            lattice_ghosts: Vec::new(),
+            built_shapes: Vec::new(),
+            velocity_extension: VelocityExtension::default(),
+            continuation: continuation::Continuation::default(),
+            shared_parent: Vec::new(),
+        }
+    }
 }
 
-impl Ghosts {
+/// One mirror's position and the values its wall gives it.
+struct Mirror<const D: usize> {
+    position: Point<D>,
+    volume: f64,
+    normal: Point<D>,
+    offset: Point<D>,
+}
+
+impl<const D: usize> Ghosts<D>
+where
+    Dim<D>: Dimension<D>,
+{
     /// Heap bytes held.
     pub fn heap_bytes(&self) -> usize {
         use crate::engine::vec_bytes as b;
@@ -218,7 +263,7 @@ impl Ghosts {
             + b(&self.shared_parent)
     }
 
-    pub fn new(walls: Vec<Wall>) -> Self {
+    pub fn new(walls: Vec<Wall<D>>) -> Self {
         Self {
             velocity_sign: walls.iter().map(|w| w.condition.velocity_sign()).collect(),
             pressure_sign: walls.iter().map(|w| w.condition.pressure_sign()).collect(),
@@ -240,7 +285,7 @@ impl Ghosts {
     }
 
     /// Replaces wall `k` (a body that moved); its mirrors follow at the next [`Self::build`].
-    pub fn set_wall(&mut self, k: usize, wall: Wall) {
+    pub fn set_wall(&mut self, k: usize, wall: Wall<D>) {
         self.velocity_sign[k] = wall.condition.velocity_sign();
         self.pressure_sign[k] = wall.condition.pressure_sign();
         self.walls[k] = wall;
@@ -265,7 +310,7 @@ impl Ghosts {
 
     /// Creates mirrors of the fluid particles within `reach` of a wall, appending their
     /// positions to `points` (which holds the fluid positions on entry).
-    pub fn build(&mut self, reach: f64, points: &mut Vec<Vec2>) {
+    pub fn build(&mut self, reach: f64, points: &mut Vec<Point<D>>) {
         self.parent.clear();
         self.wall.clear();
         self.volume.clear();
@@ -302,7 +347,7 @@ impl Ghosts {
 
     /// The mirror of the fluid point `p` (its image nearest the wall) across `wall`, back
     /// in the box.
-    fn mirror(&self, wall: &Wall, p: &Vec2, moving: bool) -> Mirror {
+    fn mirror(&self, wall: &Wall<D>, p: &Point<D>, moving: bool) -> Mirror<D> {
         let q = wall.shape.reflect(p);
         Mirror {
             position: self.domain.map_or(q, |d| d.wrap(q)),
@@ -311,13 +356,13 @@ impl Ghosts {
             offset: if moving {
                 wall.condition.velocity_offset(q)
             } else {
-                Vec2::zeros()
+                Point::<D>::zeros()
             },
         }
     }
 
     /// r_g − r_k from a parent at `parent` to its ghost at `ghost` (nearest image).
-    fn arm_to(&self, ghost: Vec2, parent: Vec2) -> Vec2 {
+    fn arm_to(&self, ghost: Point<D>, parent: Point<D>) -> Point<D> {
         let arm = ghost - parent;
         self.domain.map_or(arm, |d| d.min_image(arm))
     }
@@ -331,7 +376,7 @@ impl Ghosts {
     /// Moves the mirrors of the last [`Self::build`] to the parents' positions in `points`
     /// (the fluid positions on entry), appending them as `build` would, with their volumes,
     /// normals and offsets: the same mirrors, in the same order, for a Verlet skin.
-    pub fn refresh(&mut self, points: &mut Vec<Vec2>) {
+    pub fn refresh(&mut self, points: &mut Vec<Point<D>>) {
         let moving = self.walls.iter().any(|w| w.condition.moves());
         for g in 0..self.parent.len() {
             let wall = &self.walls[self.wall[g] as usize];
@@ -358,7 +403,7 @@ impl Ghosts {
     }
 
     /// The fixed ghosts of every wall ([`fixed`]).
-    fn build_fixed(&mut self, reach: f64, spacing: f64, moving: bool, points: &mut Vec<Vec2>) {
+    fn build_fixed(&mut self, reach: f64, spacing: f64, moving: bool, points: &mut Vec<Point<D>>) {
         let n_fluid = points.len() - self.parent.len();
         let mut near = std::mem::take(&mut self.near);
         let mut found = std::mem::take(&mut self.lattice_ghosts);
@@ -418,7 +463,7 @@ impl Ghosts {
     }
 
     /// Fluid velocities followed by the ghosts' `u_j = s u_i + b_j`.
-    pub fn extend_velocity(&self, fluid: &[Vec2], out: &mut Vec<Vec2>) {
+    pub fn extend_velocity(&self, fluid: &[Point<D>], out: &mut Vec<Point<D>>) {
         out.clear();
         out.extend_from_slice(fluid);
         out.extend(
@@ -441,7 +486,7 @@ impl Ghosts {
     /// [`VelocityExtension::Quadratic`] the no-slip walls' quadratic continuation of the
     /// fluid's velocity ([`continuation`]; its stencils from the last
     /// [`Self::prepare_continuation`]).
-    pub fn continue_velocity(&self, fluid: &[Vec2], out: &mut Vec<Vec2>) {
+    pub fn continue_velocity(&self, fluid: &[Point<D>], out: &mut Vec<Point<D>>) {
         self.extend_velocity(fluid, out);
         if self.velocity_extension == VelocityExtension::Quadratic {
             let n = fluid.len();
@@ -466,7 +511,7 @@ impl Ghosts {
     /// continues a tensor and the velocity is mirrored, nothing.
     pub fn prepare_continuation(
         &mut self,
-        pairs: continuation::PairKernel,
+        pairs: continuation::PairKernel<D>,
         n_fluid: usize,
         support: f64,
     ) {
@@ -526,9 +571,9 @@ impl Ghosts {
     /// Zero for the fluid particles followed by the part of each ghost's velocity that the
     /// implicit matrices cannot fold into fluid columns: a mirror's offset b_j, or a
     /// continued ghost's u_w(1 − Σ_m c_m) ([`Self::velocity_stencil`]; u_w = b_j/2).
-    pub fn extend_offsets(&self, n_fluid: usize, out: &mut Vec<Vec2>) {
+    pub fn extend_offsets(&self, n_fluid: usize, out: &mut Vec<Point<D>>) {
         out.clear();
-        out.resize(n_fluid, Vec2::zeros());
+        out.resize(n_fluid, Point::<D>::zeros());
         out.extend_from_slice(&self.offset);
         for (g, b) in out[n_fluid..].iter_mut().enumerate() {
             if let Some((_, c)) = self.velocity_stencil(g) {
@@ -559,7 +604,7 @@ impl Ghosts {
     }
 
     /// Fluid tensors followed by the ghosts' values by their walls' conditions.
-    pub fn extend_tensor(&self, fluid: &[Sym2], out: &mut Vec<Sym2>) {
+    pub fn extend_tensor(&self, fluid: &[Sym<D>], out: &mut Vec<Sym<D>>) {
         out.clear();
         out.extend_from_slice(fluid);
         out.extend(
@@ -579,11 +624,11 @@ impl Ghosts {
     /// the ghost, `T_k + (r_g − r_k)·∇T_k`, at the walls whose rule is
     /// [`TensorMirror::Linear`] ([`continuation`]; its stencils from the last
     /// [`Self::prepare_continuation`]), then mapped by each wall's rule.
-    pub fn continue_tensor(&self, fluid: &[Sym2], out: &mut Vec<Sym2>) {
+    pub fn continue_tensor(&self, fluid: &[Sym<D>], out: &mut Vec<Sym<D>>) {
         let n = fluid.len();
         out.clear();
         out.extend_from_slice(fluid);
-        out.resize(n + self.parent.len(), Sym2::ZERO);
+        out.resize(n + self.parent.len(), <Sym<D> as SymTensor>::ZERO);
         self.continuation.tensor(fluid, &self.parent, &mut out[n..]);
         let walls = &self.walls;
         out[n..].par_iter_mut().enumerate().for_each(|(g, t)| {
@@ -597,6 +642,7 @@ impl Ghosts {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::engine::math::{Sym2, Vec2};
 
     fn channel(tensor: TensorMirror) -> Ghosts {
         let plane = |position, fluid_side| {
@@ -693,5 +739,71 @@ mod tests {
         g.extend_tensor(&[shear, Sym2::ZERO], &mut out);
         let d = out[2] + shear;
         assert!(d.contract(&d).sqrt() < 1e-14);
+    }
+
+    /// In space: a sphere's mirror sits on the same radius at the same depth inside, the
+    /// segment's midpoint on the surface, its volume the shell's area ratio ((R − d)/(R + d))²;
+    /// the reflected tensor rule flips the normal–tangential shear in the local frame.
+    #[test]
+    fn sphere_mirrors_are_bisected_by_the_surface() {
+        use crate::engine::boundary::shape::Sphere;
+        use crate::engine::math::{Sym3, Vec3};
+        let c = Sphere {
+            centre: Vec3::new(1.0, 2.0, 3.0),
+            radius: 1.0,
+        };
+        let radial = Vec3::new(0.48, 0.6, 0.64);
+        let p = c.centre + 1.1 * radial;
+        let mut g = Ghosts::<3>::new(vec![Wall::no_slip(
+            Shape::Circle(c),
+            TensorMirror::Reflected,
+        )]);
+        let mut pts = vec![p, Vec3::new(5.0, 5.0, 5.0)];
+        g.build(0.3, &mut pts);
+        assert_eq!(g.parent, vec![0]);
+        let m = pts[2];
+        assert!((((p + m) * 0.5 - c.centre).norm() - 1.0).abs() < 1e-14);
+        assert!(((m - c.centre).norm() - 0.9).abs() < 1e-14);
+        assert!((g.volume[0] - (0.9f64 / 1.1).powi(2)).abs() < 1e-14);
+        let t = Vec3::new(0.8, -0.64, 0.0).normalize();
+        let t = (t - radial * t.dot(&radial)).normalize();
+        let shear = Sym3::from_entries(|a, b| radial[a] * t[b] + radial[b] * t[a]);
+        let normal_stress = Sym3::from_entries(|a, b| radial[a] * radial[b]);
+        let mut out = Vec::new();
+        g.extend_tensor(&[shear, shear], &mut out);
+        let d = out[2] + shear;
+        assert!(d.contract(&d).sqrt() < 1e-14, "n⊗t + t⊗n is odd");
+        g.extend_tensor(&[normal_stress, normal_stress], &mut out);
+        let d = out[2] - normal_stress;
+        assert!(d.contract(&d).sqrt() < 1e-14, "n⊗n is even");
+    }
+
+    /// In space two planes meet along an edge: the corner ghost of a particle near both is
+    /// reflected across the two planes' axes and keeps its coordinate along the edge, and the
+    /// composed no-slip condition gives it u_c = u_i (two odd copies).
+    #[test]
+    fn a_3d_corner_reflects_across_its_edge() {
+        use crate::engine::math::Vec3;
+        let floor = Wall::<3>::no_slip(Shape::Plane(Plane::floor()), TensorMirror::Even);
+        let side = Wall::<3>::no_slip(
+            Shape::Plane(Plane {
+                axis: 2,
+                position: 0.0,
+                fluid_side: 1.0,
+            }),
+            TensorMirror::Even,
+        );
+        let corner = Wall::corner(&floor, &side).expect("planes on different axes");
+        let p = Vec3::new(0.7, 0.05, 0.1);
+        assert!((corner.distance(&p) - (0.05f64.hypot(0.1))).abs() < 1e-15);
+        assert_eq!(corner.shape.reflect(&p), Vec3::new(0.7, -0.05, -0.1));
+        assert!((corner.distance(&Vec3::new(0.7, -0.02, 0.3)) + 0.02).abs() < 1e-15);
+        let mut g = Ghosts::<3>::new(vec![floor, side, corner]);
+        let mut pts = vec![p];
+        g.build(0.2, &mut pts);
+        assert_eq!(g.wall, vec![0, 1, 2]);
+        let mut u = Vec::new();
+        g.extend_velocity(&[Vec3::new(1.0, 2.0, 3.0)], &mut u);
+        assert_eq!(u[3], Vec3::new(1.0, 2.0, 3.0));
     }
 }

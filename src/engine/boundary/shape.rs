@@ -1,8 +1,28 @@
 //! The shapes of solid surfaces: planes, circles, the corners of planes and dipped plates, with the geometry the mirror
 //! construction needs (signed distance, reflection, the mirrored volume ratio, the normal).
+//!
+//! Written once for D = 2 or 3 (the default 2): a plane is normal to an axis, a [`Circle`] is a
+//! circle in the plane and a sphere in space ([`Sphere`]), a corner is where two planes meet
+//! (in space, an edge). A plate is a plane shape: in space it is extruded along z.
 
 use crate::engine::math::Vec2;
 use crate::engine::neighbours::Domain;
+use nalgebra::SVector;
+
+/// A point in D dimensions.
+type Point<const D: usize> = SVector<f64, D>;
+
+/// The x–y components of `p` (`p` itself in the plane).
+fn in_plane<const D: usize>(p: &Point<D>) -> Vec2 {
+    Vec2::new(p[0], p[1])
+}
+
+/// `p` with its x–y components replaced by `q`'s.
+fn with_plane<const D: usize>(mut p: Point<D>, q: Vec2) -> Point<D> {
+    p[0] = q.x;
+    p[1] = q.y;
+    p
+}
 
 /// A straight wall normal to `axis` at `position`, the fluid on the side `fluid_side` (+1: the
 /// fluid occupies coordinates above `position`).
@@ -25,48 +45,60 @@ impl Plane {
     }
 
     /// Signed distance of `p` from the wall, positive in the fluid.
-    pub fn distance(&self, p: &Vec2) -> f64 {
+    pub fn distance<const D: usize>(&self, p: &Point<D>) -> f64 {
         (p[self.axis] - self.position) * self.fluid_side
     }
 
     /// Mirror image of `p` across the wall.
-    pub fn reflect(&self, p: &Vec2) -> Vec2 {
+    pub fn reflect<const D: usize>(&self, p: &Point<D>) -> Point<D> {
         let mut q = *p;
         q[self.axis] = 2.0 * self.position - p[self.axis];
         q
     }
+
+    /// The unit normal pointing into the fluid.
+    pub fn inward_normal<const D: usize>(&self) -> Point<D> {
+        let mut n = Point::<D>::zeros();
+        n[self.axis] = self.fluid_side;
+        n
+    }
 }
 
-/// A solid circular cylinder (at rest) of `radius` about `centre`.
+/// A solid circular cylinder (in the plane) or sphere (in space) of `radius` about `centre`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Circle {
-    pub centre: Vec2,
+pub struct Circle<const D: usize = 2> {
+    pub centre: Point<D>,
     pub radius: f64,
 }
 
-impl Circle {
+/// A solid sphere.
+pub type Sphere = Circle<3>;
+
+impl<const D: usize> Circle<D> {
     /// Distance of `p` from the surface, positive in the fluid.
-    pub fn distance(&self, p: &Vec2) -> f64 {
+    pub fn distance(&self, p: &Point<D>) -> f64 {
         (p - self.centre).norm() - self.radius
     }
 
     /// Mirror image of `p` across the surface along the radius: a particle at distance d
     /// outside lands at distance d inside, so r_ij is normal to, and bisected by, the surface.
-    pub fn reflect(&self, p: &Vec2) -> Vec2 {
+    pub fn reflect(&self, p: &Point<D>) -> Point<D> {
         let r = p - self.centre;
         let rho = r.norm();
         self.centre + r * ((2.0 * self.radius - rho) / rho)
     }
 
-    /// Area of the mirrored ring element over the original's, (R − d)/(R + d): mirrors are
-    /// packed closer inside a convex surface, so each carries less volume.
-    pub fn volume_ratio(&self, p: &Vec2) -> f64 {
+    /// Volume of the mirrored shell element over the original's, ((R − d)/(R + d))^(D−1):
+    /// mirrors are packed closer inside a convex surface, so each carries less volume (the
+    /// ring's length ratio in the plane, the shell's area ratio in space).
+    pub fn volume_ratio(&self, p: &Point<D>) -> f64 {
         let d = self.distance(p);
-        (self.radius - d) / (self.radius + d)
+        let ratio = (self.radius - d) / (self.radius + d);
+        (1..D).fold(1.0, |v, _| v * ratio)
     }
 
     /// Outward unit normal at the surface point nearest `p`.
-    pub fn normal(&self, p: &Vec2) -> Vec2 {
+    pub fn normal(&self, p: &Point<D>) -> Point<D> {
         (p - self.centre).normalize()
     }
 }
@@ -76,29 +108,50 @@ impl Circle {
 /// the corner, which neither reaches, is filled by its point reflection 2c − p (the
 /// mirror of a mirror), so that a corner particle's support is as full as a wall
 /// particle's. Its values compose the two walls' conditions ([`super::condition::Corner`]).
+/// In space the two planes meet along an edge: the corner's axes are the two planes' normals,
+/// and along the third nothing changes.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Corner {
-    pub point: Vec2,
-    /// The fluid side along x and along y (±1).
-    pub sides: [f64; 2],
+pub struct Corner<const D: usize = 2> {
+    /// A point of the corner (its components along the two planes' normals count).
+    pub point: Point<D>,
+    /// The fluid side along each axis (±1 along the two planes' normals, 0 along the edge).
+    pub sides: [f64; D],
 }
 
-impl Corner {
+impl<const D: usize> Corner<D> {
+    /// `p − c` along the corner's two axes (zero along the edge).
+    fn offset(&self, p: &Point<D>) -> Point<D> {
+        Point::<D>::from_fn(|a, _| {
+            if self.sides[a] == 0.0 {
+                0.0
+            } else {
+                p[a] - self.point[a]
+            }
+        })
+    }
+
     /// The distance from the corner inside the fluid quadrant; outside it, the (negative)
     /// distance from the nearer wall.
-    pub fn distance(&self, p: &Vec2) -> f64 {
-        let d = p - self.point;
-        let (dx, dy) = (d.x * self.sides[0], d.y * self.sides[1]);
-        if dx >= 0.0 && dy >= 0.0 {
+    pub fn distance(&self, p: &Point<D>) -> f64 {
+        let d = self.offset(p);
+        let sides = (0..D).filter(|&a| self.sides[a] != 0.0);
+        let nearer = sides.fold(f64::INFINITY, |m, a| m.min(d[a] * self.sides[a]));
+        if nearer >= 0.0 {
             d.norm()
         } else {
-            dx.min(dy)
+            nearer
         }
     }
 
-    /// The point reflection 2c − p.
-    pub fn reflect(&self, p: &Vec2) -> Vec2 {
-        2.0 * self.point - p
+    /// The point reflection 2c − p across the corner (across its edge in space).
+    pub fn reflect(&self, p: &Point<D>) -> Point<D> {
+        Point::<D>::from_fn(|a, _| {
+            if self.sides[a] == 0.0 {
+                p[a]
+            } else {
+                2.0 * self.point[a] - p[a]
+            }
+        })
     }
 }
 
@@ -118,7 +171,7 @@ pub struct Plate {
 }
 
 impl Plate {
-    /// The rounded end as a circle.
+    /// The rounded end as a circle (in the x–y plane).
     pub fn end(&self) -> Circle {
         let radius = 0.5 * (self.right - self.left);
         Circle {
@@ -133,81 +186,88 @@ impl Plate {
     }
 
     /// Distance from the plate, positive in the fluid.
-    pub fn distance(&self, p: &Vec2) -> f64 {
-        if self.beside(p) {
+    pub fn distance<const D: usize>(&self, p: &Point<D>) -> f64 {
+        let p = in_plane(p);
+        if self.beside(&p) {
             (self.left - p.x).max(p.x - self.right)
         } else {
-            self.end().distance(p)
+            self.end().distance(&p)
         }
     }
 
     /// The image across the nearest side, or across the end along its radius.
-    pub fn reflect(&self, p: &Vec2) -> Vec2 {
-        if !self.beside(p) {
-            return self.end().reflect(p);
+    pub fn reflect<const D: usize>(&self, p: &Point<D>) -> Point<D> {
+        let q = in_plane(p);
+        if !self.beside(&q) {
+            return with_plane(*p, self.end().reflect(&q));
         }
-        let side = if p.x < 0.5 * (self.left + self.right) {
+        let side = if q.x < 0.5 * (self.left + self.right) {
             self.left
         } else {
             self.right
         };
-        Vec2::new(2.0 * side - p.x, p.y)
+        with_plane(*p, Vec2::new(2.0 * side - q.x, q.y))
     }
 
     /// A mirror's volume relative to its parent's: 1 beside the sides, the circle's ratio
     /// below.
-    pub fn volume_ratio(&self, p: &Vec2) -> f64 {
-        if self.beside(p) {
+    pub fn volume_ratio<const D: usize>(&self, p: &Point<D>) -> f64 {
+        let p = in_plane(p);
+        if self.beside(&p) {
             1.0
         } else {
-            self.end().volume_ratio(p)
+            self.end().volume_ratio(&p)
         }
     }
 
     /// The flat side nearest `p` and `p`'s distance from it, with the side's unit normal
     /// pointing into the fluid (None below the end's centre: no contact line there).
-    pub fn face(&self, p: &Vec2) -> Option<(f64, Vec2)> {
-        if !self.beside(p) {
+    pub fn face<const D: usize>(&self, p: &Point<D>) -> Option<(f64, Point<D>)> {
+        let q = in_plane(p);
+        if !self.beside(&q) {
             return None;
         }
         let d = self.distance(p);
-        if p.x < 0.5 * (self.left + self.right) {
-            Some((d, Vec2::new(-1.0, 0.0)))
+        let x = if q.x < 0.5 * (self.left + self.right) {
+            -1.0
         } else {
-            Some((d, Vec2::new(1.0, 0.0)))
-        }
+            1.0
+        };
+        Some((d, with_plane(Point::<D>::zeros(), Vec2::new(x, 0.0))))
     }
 
     /// Unit normal of the nearest side or of the end.
-    pub fn normal(&self, p: &Vec2) -> Vec2 {
-        if self.beside(p) {
+    pub fn normal<const D: usize>(&self, p: &Point<D>) -> Point<D> {
+        let q = in_plane(p);
+        let n = if self.beside(&q) {
             Vec2::new(1.0, 0.0)
         } else {
-            self.end().normal(p)
-        }
+            self.end().normal(&q)
+        };
+        with_plane(Point::<D>::zeros(), n)
     }
 }
 
 /// The shape of a solid surface that creates mirror particles.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Shape {
+pub enum Shape<const D: usize = 2> {
     Plane(Plane),
-    Circle(Circle),
-    Corner(Corner),
+    Circle(Circle<D>),
+    Corner(Corner<D>),
     Plate(Plate),
 }
 
-impl Shape {
+impl<const D: usize> Shape<D> {
     /// The periodic image of `p` nearest a circle's centre (`p` itself for a plane, or
     /// without a domain).
-    pub fn nearest_image(&self, p: &Vec2, domain: Option<&Domain>) -> Vec2 {
+    pub fn nearest_image(&self, p: &Point<D>, domain: Option<&Domain<D>>) -> Point<D> {
         match (self, domain) {
             (Shape::Circle(c), Some(d)) => c.centre + d.min_image(p - c.centre),
             _ => *p,
         }
     }
 
-    pub fn distance(&self, p: &Vec2) -> f64 {
+    pub fn distance(&self, p: &Point<D>) -> f64 {
         match self {
             Shape::Plane(w) => w.distance(p),
             Shape::Circle(c) => c.distance(p),
@@ -216,7 +276,7 @@ impl Shape {
         }
     }
 
-    pub fn reflect(&self, p: &Vec2) -> Vec2 {
+    pub fn reflect(&self, p: &Point<D>) -> Point<D> {
         match self {
             Shape::Plane(w) => w.reflect(p),
             Shape::Circle(c) => c.reflect(p),
@@ -228,20 +288,16 @@ impl Shape {
     /// The flat face nearest `p`, where a free surface may meet the wall at a contact angle:
     /// `p`'s distance from it and its unit normal into the fluid (None for a circle or a
     /// corner, whose planes are walls of their own).
-    pub fn face(&self, p: &Vec2) -> Option<(f64, Vec2)> {
+    pub fn face(&self, p: &Point<D>) -> Option<(f64, Point<D>)> {
         match self {
-            Shape::Plane(w) => {
-                let mut n = Vec2::zeros();
-                n[w.axis] = w.fluid_side;
-                Some((w.distance(p), n))
-            }
+            Shape::Plane(w) => Some((w.distance(p), w.inward_normal())),
             Shape::Plate(c) => c.face(p),
             Shape::Circle(_) | Shape::Corner(_) => None,
         }
     }
 
     /// Volume of a mirror relative to its parent's (1 for a plane).
-    pub fn volume_ratio(&self, p: &Vec2) -> f64 {
+    pub fn volume_ratio(&self, p: &Point<D>) -> f64 {
         match self {
             Shape::Plane(_) | Shape::Corner(_) => 1.0,
             Shape::Circle(c) => c.volume_ratio(p),
@@ -251,7 +307,7 @@ impl Shape {
 
     /// How far this shape lies from `other`: the largest distance a surface point moved
     /// (∞ when they are not the same kind of surface or face different ways).
-    pub fn displacement_from(&self, other: &Shape) -> f64 {
+    pub fn displacement_from(&self, other: &Shape<D>) -> f64 {
         match (self, other) {
             (Shape::Plane(a), Shape::Plane(b))
                 if a.axis == b.axis && a.fluid_side == b.fluid_side =>
@@ -286,16 +342,16 @@ impl Shape {
     }
 
     /// Unit normal of the surface near `p` (sign irrelevant for reflections).
-    pub fn normal(&self, p: &Vec2) -> Vec2 {
+    pub fn normal(&self, p: &Point<D>) -> Point<D> {
         match self {
             Shape::Plane(w) => {
-                let mut n = Vec2::zeros();
+                let mut n = Point::<D>::zeros();
                 n[w.axis] = 1.0;
                 n
             }
             Shape::Circle(c) => c.normal(p),
             // The diagonal from the corner (the composed condition does not use it).
-            Shape::Corner(c) => (p - c.point).normalize(),
+            Shape::Corner(c) => c.offset(p).normalize(),
             Shape::Plate(c) => c.normal(p),
         }
     }

@@ -37,7 +37,49 @@ pub trait Dimension<const D: usize>: Copy + Debug + Send + Sync + 'static {
         dv: f64,
         which: Second,
     );
+    /// The weights c_j of the weighted least-squares fit `a·x + B:xx` (no constant term)
+    /// through `rows` (point about the fit's origin, weight), evaluated at `at`, appended to
+    /// `c` (Σ_j c_j f_j is the fit's value there); points are divided by `scale` first. Left
+    /// empty where the moment matrix is singular or a weight is not finite. D + D(D+1)/2
+    /// monomials: 5 in the plane, 9 in space.
+    fn quadratic_weights(
+        rows: impl Iterator<Item = (SVector<f64, D>, f64)> + Clone,
+        at: SVector<f64, D>,
+        scale: f64,
+        c: &mut Vec<f64>,
+    );
 }
+
+/// [`Dimension::quadratic_weights`] over the N monomials `basis` gives of a scaled point.
+pub(crate) fn fit_weights<const D: usize, const N: usize>(
+    basis: impl Fn(SVector<f64, D>) -> SVector<f64, N>,
+    rows: impl Iterator<Item = (SVector<f64, D>, f64)> + Clone,
+    at: SVector<f64, D>,
+    scale: f64,
+    c: &mut Vec<f64>,
+) {
+    let basis = |r: SVector<f64, D>| basis(r / scale);
+    let mut m = SMatrix::<f64, N, N>::zeros();
+    for (at, w) in rows.clone() {
+        let b = basis(at);
+        m += w * b * b.transpose();
+    }
+    let Some(inverse) = m.try_inverse() else {
+        return;
+    };
+    let z = inverse * basis(at);
+    c.extend(rows.map(|(at, w)| w * z.dot(&basis(at))));
+    if !c.iter().all(|v| v.is_finite()) {
+        c.clear();
+    }
+}
+
+/// A vector (point, velocity) in D dimensions.
+pub type Vector<const D: usize> = SVector<f64, D>;
+/// A general D × D matrix (a velocity gradient: `[(a, b)] = ∂u_a/∂x_b`).
+pub type Matrix<const D: usize> = SMatrix<f64, D, D>;
+/// The symmetric tensor of D dimensions (needs the bound `Dim<D>: Dimension<D>`).
+pub type Sym<const D: usize> = <Dim<D> as Dimension<D>>::Sym;
 
 /// D space dimensions, as a type.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

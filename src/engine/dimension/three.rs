@@ -3,6 +3,7 @@
 use super::{Dim, Dimension, SymTensor};
 use crate::engine::math::{Mat3, Sym3, Vec3};
 use crate::engine::second_order::Second;
+use nalgebra::SVector;
 
 impl Dimension<3> for Dim<3> {
     type Sym = Sym3;
@@ -28,6 +29,18 @@ impl Dimension<3> for Dim<3> {
         which: Second,
     ) {
         let _ = (grad, laplacian, factor, rij, h, dv, which);
+    }
+    fn quadratic_weights(
+        rows: impl Iterator<Item = (Vec3, f64)> + Clone,
+        at: Vec3,
+        scale: f64,
+        c: &mut Vec<f64>,
+    ) {
+        let basis = |r: Vec3| {
+            let (x, y, z) = (r.x, r.y, r.z);
+            SVector::<f64, 9>::from([x, y, z, x * x, x * y, x * z, y * y, y * z, z * z])
+        };
+        super::fit_weights(basis, rows, at, scale, c);
     }
 }
 

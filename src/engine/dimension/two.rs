@@ -3,6 +3,7 @@
 use super::{Dim, Dimension, SymTensor};
 use crate::engine::math::{Mat2, Sym2, Vec2};
 use crate::engine::second_order::Second;
+use nalgebra::SVector;
 
 impl Dimension<2> for Dim<2> {
     type Sym = Sym2;
@@ -28,6 +29,15 @@ impl Dimension<2> for Dim<2> {
         which: Second,
     ) {
         crate::engine::second_order::second_order_row(grad, laplacian, factor, rij, h, dv, which);
+    }
+    fn quadratic_weights(
+        rows: impl Iterator<Item = (Vec2, f64)> + Clone,
+        at: Vec2,
+        scale: f64,
+        c: &mut Vec<f64>,
+    ) {
+        let basis = |r: Vec2| SVector::<f64, 5>::from([r.x, r.y, r.x * r.x, r.x * r.y, r.y * r.y]);
+        super::fit_weights(basis, rows, at, scale, c);
     }
 }
 
