@@ -524,9 +524,11 @@ fn the_validation_pages_generated_tables_match_their_runs() {
 }
 
 /// A study's members run elsewhere: `--emit` writes their cases and scripts and runs nothing;
-/// `--collect` lists a member not yet run and fails; once the emitted script has run the rest
-/// (skipping the one run by hand), `--collect` assembles the same `stability.csv` as the study
-/// run here, wall times aside (runs are deterministic whatever the thread count).
+/// `--collect` with a member not yet run writes the table with a `lost` row for it, lists it
+/// and exits with status 4; after its run stopped on an error, the row is `failed` with that
+/// error; once the emitted script has run it (skipping the one run by hand), `--collect`
+/// assembles the same `stability.csv` as the study run here, wall times aside (runs are
+/// deterministic whatever the thread count).
 #[test]
 fn emitted_members_run_elsewhere_collect_to_the_same_study() {
     let dir = tempfile::tempdir().unwrap();
@@ -571,12 +573,45 @@ fn emitted_members_run_elsewhere_collect_to_the_same_study() {
         .unwrap()
         .modified()
         .unwrap();
-    let out = study(&["--collect", emit.to_str().unwrap()]);
+    let collect = || study(&["--collect", emit.to_str().unwrap()]);
+    let row_of_wi_2 = || {
+        let table = std::fs::read_to_string(emit.join("stability.csv")).unwrap();
+        let row = table.lines().find(|l| l.starts_with("base,2,"));
+        row.map(String::from).unwrap_or_default()
+    };
+    let out = collect();
     let text = String::from_utf8_lossy(&out.stderr);
-    assert!(!out.status.success());
+    assert_eq!(out.status.code(), Some(4), "{text}");
     assert!(
-        text.contains("1 of 2 members have not finished") && text.contains("Wi_2"),
+        text.contains("1 of 2 members have not finished")
+            && text.contains("Wi_2: lost")
+            && text.contains("sbatch --array=1 job-array.slurm"),
         "{text}"
+    );
+    assert!(
+        row_of_wi_2().starts_with("base,2,lost,"),
+        "{}",
+        row_of_wi_2()
+    );
+    assert!(emit.join("stability_map.png").exists());
+    // The second member's run stops on an error (a bad value): a `failed` row, its reason
+    // the error.
+    let second = emit.join(members[1]);
+    let bad = rheosph(&[
+        "run",
+        second.join("case.toml").to_str().unwrap(),
+        "--out",
+        second.to_str().unwrap(),
+        "--set",
+        "scene.resolution=many",
+    ]);
+    assert_eq!(bad.status.code(), Some(2), "{bad:?}");
+    let out = collect();
+    assert_eq!(out.status.code(), Some(4));
+    let row = row_of_wi_2();
+    assert!(
+        row.starts_with("base,2,failed,") && row.contains("scene.resolution"),
+        "{row}"
     );
     let script = Command::new("bash")
         .arg(emit.join("run-members.sh"))
@@ -589,9 +624,11 @@ fn emitted_members_run_elsewhere_collect_to_the_same_study() {
         .modified()
         .unwrap();
     assert_eq!(stamp, again, "a finished member was run again");
-    assert!(study(&["--collect", emit.to_str().unwrap()])
-        .status
-        .success());
+    assert!(
+        !second.join("error.txt").exists(),
+        "a new run keeps an old error"
+    );
+    assert!(collect().status.success());
     let without_wall = |path: &Path| -> Vec<String> {
         let text = std::fs::read_to_string(path).unwrap();
         text.lines()

@@ -177,3 +177,68 @@ fn cylinder_study_runs_coarse_to_fine() {
     let csv_again = std::fs::read_to_string(out.path().join("cylinder.csv")).unwrap();
     assert_eq!(csv.lines().count(), csv_again.lines().count());
 }
+
+/// `--collect` with no member run: every study kind still writes its table, one `lost` row
+/// per member (in its `outcome` column), and its charts, and ends with `Incomplete`.
+#[test]
+fn every_study_kind_collects_missing_members_as_lost_rows() {
+    let out = tempfile::tempdir().unwrap();
+    let collect = |path: &str| Base {
+        path: PathBuf::from(path),
+        executor: Executor::Collect,
+        ..base(&["run.end_time=0.3"])
+    };
+    let dir = |name: &str| out.path().join(name);
+    let (png, poiseuille) = (FigureFormat::Png, collect("cases/poiseuille.toml"));
+    let (frames, one) = (["lagrangian".to_string()], study::product(&[]));
+    let results = [
+        (
+            "convergence.csv",
+            study::convergence::run(&poiseuille, &[12, 24], &frames, &dir("c"), png, 1, true)
+                .map(|_| ()),
+            dir("c"),
+        ),
+        (
+            "stability.csv",
+            study::stability::run(&poiseuille, &[1.0, 2.0], &one, 0.1, &dir("s"), png, 1, true)
+                .map(|_| ()),
+            dir("s"),
+        ),
+        (
+            "speed_accuracy.csv",
+            study::speed_accuracy::run(&poiseuille, &[12, 24], &one, &dir("a"), png, 1, true)
+                .map(|_| ()),
+            dir("a"),
+        ),
+        (
+            "cylinder.csv",
+            study::cylinder::run(
+                &collect("cases/cylinder-array.toml"),
+                &[0.5, 1.0],
+                &[],
+                None,
+                &dir("y"),
+                png,
+                1,
+                true,
+            )
+            .map(|_| ()),
+            dir("y"),
+        ),
+    ];
+    for (table, result, dir) in results {
+        let e = result.expect_err(table);
+        assert!(e.is::<study::Incomplete>(), "{table}: {e}");
+        assert!(e.to_string().contains("2 of 2 members"), "{e}");
+        let text = std::fs::read_to_string(dir.join(table)).unwrap();
+        let mut lines = text.lines().map(|l| l.split(',').collect::<Vec<_>>());
+        let header = lines.next().unwrap();
+        let outcome = header.iter().position(|&h| h == "outcome").unwrap();
+        let rows: Vec<Vec<&str>> = lines.collect();
+        assert_eq!(rows.len(), 2, "{table}");
+        assert!(
+            rows.iter().all(|r| r[outcome] == "lost"),
+            "{table}: {rows:?}"
+        );
+    }
+}

@@ -358,16 +358,20 @@ class StudyIncomplete(RuntimeError):
     """Members of a study that did not finish on its executor (an exception, a lost worker).
 
     ``failed`` maps each member's run directory (relative to the study's) to what went wrong.
-    Calling :func:`study` again with the same arguments and ``out`` runs only these: finished
-    members are read back, not rerun."""
+    The study's table is written all the same, at ``table``: the finished members' rows, and
+    a row whose ``outcome`` is ``lost`` (not run, or its worker lost) or ``failed`` (its run
+    stopped on an error) for each other member. Calling :func:`study` again with the same
+    arguments and ``out`` runs only these: finished members are read back, not rerun."""
 
-    def __init__(self, out: str, failed: dict[str, str]):
+    def __init__(self, out: str, failed: dict[str, str], table: Optional[Path] = None):
         self.out = out
         self.failed = failed
+        self.table = table
         lines = "\n  ".join(f"{m}: {why}" for m, why in sorted(failed.items()))
+        written = f"the table, with a row for each, is {table}\n" if table else ""
         super().__init__(
             f"{len(failed)} members of the study in {out} did not finish:\n  {lines}\n"
-            "call study() again with the same arguments to run only these"
+            f"{written}call study() again with the same arguments to run only these"
         )
 
 
@@ -400,8 +404,9 @@ def study(
     ``Client.get_executor()``, ``mpi4py.futures.MPIPoolExecutor``, submitit's executor). The
     study's members are written first (``--emit``), each is run where the executor puts it,
     then the table and charts are assembled from them (``--collect``), with the same numbers
-    as a study run here. A member that raises or is lost is reported in
-    :class:`StudyIncomplete`; calling again completes only what is missing. Without an
+    as a study run here. A member that raises or is lost is a ``lost`` or ``failed`` row of
+    the table, and is reported in :class:`StudyIncomplete` (raised once the table is
+    written); calling again completes only what is missing. Without an
     executor the study runs in this process (``jobs=N`` runs N members at a time)."""
     argv = ["study", kind, str(case)]
     for o in _overrides(overrides):
@@ -421,13 +426,18 @@ def study(
         _cli(argv + ["--out", str(out)])
     else:
         _run_elsewhere(argv, Path(out), executor)
-    table = {
-        "convergence": "convergence.csv",
-        "stability": "stability.csv",
-        "speed-accuracy": "speed_accuracy.csv",
-        "cylinder": "cylinder.csv",
-    }.get(kind)
+    table = _TABLES.get(kind)
     return _read_csv(Path(out) / table) if table else {}
+
+
+# Each study's table, and the exit code of `--collect` that wrote it with members missing.
+_TABLES = {
+    "convergence": "convergence.csv",
+    "stability": "stability.csv",
+    "speed-accuracy": "speed_accuracy.csv",
+    "cylinder": "cylinder.csv",
+}
+_EXIT_INCOMPLETE = 4
 
 
 def _run_elsewhere(argv: list[str], out: Path, executor: Any) -> None:
@@ -441,9 +451,14 @@ def _run_elsewhere(argv: list[str], out: Path, executor: Any) -> None:
             future.result()
         except Exception as e:  # a lost worker surfaces here as the executor's own error
             failed[member] = f"{type(e).__name__}: {e}"
-    if failed:
-        raise StudyIncomplete(str(out), failed)
-    _cli(argv + ["--collect", str(out)])
+    # Collect in any case: the table then holds the finished members and a row for each
+    # missing one.
+    collect = argv + ["--collect", str(out)]
+    code = _native.cli(["rheosph", "--quiet", *collect])
+    if code == _EXIT_INCOMPLETE:
+        raise StudyIncomplete(str(out), failed, out / _TABLES[argv[1]])
+    if code not in (0, 3):
+        raise RuntimeError(f"rheosph {' '.join(collect)} failed (exit code {code}); see stderr")
 
 
 def rheometry(

@@ -4,6 +4,7 @@ Run from the checkout root: python -m unittest discover -s python/tests
 """
 
 import concurrent.futures
+import csv
 import json
 import multiprocessing
 import shutil
@@ -170,18 +171,23 @@ class RheometryAndStudyTest(unittest.TestCase):
 
 class _Inline(concurrent.futures.Executor):
     """Runs each call at once in this process; loses the calls numbered in `lose` as a
-    killed worker would (the executor's BrokenProcessPool)."""
+    killed worker would (the executor's BrokenProcessPool), and spoils the case file of the
+    members numbered in `fail` first, so that their runs stop on an error."""
 
-    def __init__(self, lose=()):
-        self.lose, self.calls = set(lose), 0
+    def __init__(self, lose=(), fail=()):
+        self.lose, self.fail, self.calls = set(lose), set(fail), 0
 
     def submit(self, fn, /, *args, **kwargs):
         future = concurrent.futures.Future()
         self.calls += 1
-        if self.calls in self.lose:
-            future.set_exception(BrokenProcessPool("a worker was killed"))
-        else:
+        if self.calls in self.fail:
+            (Path(args[0]) / "case.toml").write_text("[scene\n")
+        try:
+            if self.calls in self.lose:
+                raise BrokenProcessPool("a worker was killed")
             future.set_result(fn(*args, **kwargs))
+        except Exception as e:
+            future.set_exception(e)
         return future
 
 
@@ -204,18 +210,33 @@ class StudyExecutorTest(unittest.TestCase):
                 )
             self.assert_same_table(here, there)
 
-    def test_a_lost_member_is_reported_and_completed_without_rerunning_the_rest(self):
+    def test_lost_and_failed_members_are_rows_and_a_rerun_completes_only_them(self):
+        args = dict(self.ARGS, wi=[0.5, 1, 2])
         with tempfile.TemporaryDirectory() as tmp:
             out = Path(tmp) / "s"
             with self.assertRaises(rheosph.StudyIncomplete) as lost:
-                rheosph.study("stability", POISEUILLE, out, executor=_Inline(lose={2}), **self.ARGS)
-            self.assertEqual(list(lost.exception.failed), ["runs/Wi_2"])
-            self.assertIn("BrokenProcessPool", lost.exception.failed["runs/Wi_2"])
+                rheosph.study(
+                    "stability", POISEUILLE, out, executor=_Inline(lose={2}, fail={3}), **args
+                )
+            failed = lost.exception.failed
+            self.assertEqual(sorted(failed), ["runs/Wi_1", "runs/Wi_2"])
+            self.assertIn("BrokenProcessPool", failed["runs/Wi_1"])
+            self.assertIn("RuntimeError", failed["runs/Wi_2"])
+            # The table is written all the same: a row per member, the missing ones marked.
+            self.assertEqual(lost.exception.table, out / "stability.csv")
+            with open(lost.exception.table, newline="") as f:
+                rows = {r["wi"]: r for r in csv.DictReader(f)}
+            self.assertEqual(sorted(rows), ["0.5", "1", "2"])
+            self.assertIn(rows["0.5"]["outcome"], ("stable", "inaccurate"))
+            self.assertEqual(rows["1"]["outcome"], "lost")
+            self.assertEqual(rows["2"]["outcome"], "failed")
+            self.assertIn("case.toml", rows["2"]["reason"])
+            self.assertEqual(rows["1"]["l2_mean"], "")
             first = out / "runs" / "Wi_0.5" / "summary.json"
             stamp = first.stat().st_mtime_ns
-            table = rheosph.study("stability", POISEUILLE, out, executor=_Inline(), **self.ARGS)
+            table = rheosph.study("stability", POISEUILLE, out, executor=_Inline(), **args)
             self.assertEqual(first.stat().st_mtime_ns, stamp, "a finished member was rerun")
-            here = rheosph.study("stability", POISEUILLE, Path(tmp) / "here", **self.ARGS)
+            here = rheosph.study("stability", POISEUILLE, Path(tmp) / "here", **args)
             self.assert_same_table(here, table)
 
 

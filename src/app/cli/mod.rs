@@ -5,7 +5,7 @@ pub mod args;
 
 use crate::app::keys::KeyPage;
 use crate::app::run::{self, Outcome, RunOptions};
-use crate::app::study::cli::StudyCommand;
+use crate::app::study::{cli::StudyCommand, Incomplete};
 use crate::setup::case::{self, CaseError};
 use args::{
     BenchArgs, CaseArgs, CompareArgs, CompareCentrelinesArgs, CompareDropsArgs, RheometryArgs,
@@ -80,6 +80,9 @@ pub const EXIT_FAILURE: u8 = 1;
 pub const EXIT_BROKE_DOWN: u8 = 3;
 /// Exit code for bad input.
 pub const EXIT_BAD_INPUT: u8 = 2;
+/// Exit code of `study --collect` with members not finished: the table is written, with a
+/// `lost` or `failed` row for each.
+pub const EXIT_INCOMPLETE: u8 = 4;
 
 /// Runs the parsed command line.
 pub fn main(cli: Cli) -> std::process::ExitCode {
@@ -96,41 +99,56 @@ pub fn exit_code(cli: Cli) -> u8 {
                 EXIT_BAD_INPUT
             } else {
                 eprintln!("error: {e:#}");
-                EXIT_FAILURE
+                if e.is::<Incomplete>() {
+                    EXIT_INCOMPLETE
+                } else {
+                    EXIT_FAILURE
+                }
             }
         }
     }
 }
 
+/// `rheosph run`: a case (or `--resume DIR`) run into its directory; its exit code.
+fn run_command(args: &RunArgs, quiet: bool) -> anyhow::Result<u8> {
+    let options = |out_dir: PathBuf| RunOptions {
+        out_dir,
+        quiet,
+        charts: (!args.no_charts).then_some(args.figure_format),
+        snapshots: !args.no_snapshots,
+        progress: None,
+    };
+    let summary = match (&args.resume, &args.case) {
+        (Some(dir), _) => run::resume(&options(dir.clone()))?,
+        (None, Some(path)) => {
+            let case = case::load(path, &args.set)?;
+            let out_dir = args
+                .out
+                .clone()
+                .unwrap_or_else(|| PathBuf::from("runs").join(&case.name));
+            match &args.from {
+                Some(from) => run::continue_from(&case, &options(out_dir), from)?,
+                None => run::run(&case, &options(out_dir))?,
+            }
+        }
+        (None, None) => anyhow::bail!("a case file or --resume DIR is required"),
+    };
+    Ok(match summary.outcome {
+        Outcome::Finished => EXIT_FINISHED,
+        Outcome::BrokeDown => EXIT_BROKE_DOWN,
+    })
+}
+
 fn dispatch(cli: Cli) -> anyhow::Result<u8> {
     match cli.command {
         Command::Run(args) => {
-            let options = |out_dir: PathBuf| RunOptions {
-                out_dir,
-                quiet: cli.quiet,
-                charts: (!args.no_charts).then_some(args.figure_format),
-                snapshots: !args.no_snapshots,
-                progress: None,
-            };
-            let summary = match (&args.resume, &args.case) {
-                (Some(dir), _) => run::resume(&options(dir.clone()))?,
-                (None, Some(path)) => {
-                    let case = case::load(path, &args.set)?;
-                    let out_dir = args
-                        .out
-                        .clone()
-                        .unwrap_or_else(|| PathBuf::from("runs").join(&case.name));
-                    match &args.from {
-                        Some(from) => run::continue_from(&case, &options(out_dir), from)?,
-                        None => run::run(&case, &options(out_dir))?,
-                    }
-                }
-                (None, None) => anyhow::bail!("a case file or --resume DIR is required"),
-            };
-            Ok(match summary.outcome {
-                Outcome::Finished => EXIT_FINISHED,
-                Outcome::BrokeDown => EXIT_BROKE_DOWN,
-            })
+            let result = run_command(&args, cli.quiet);
+            // A run directory named on the command line keeps the error that stopped it, so
+            // that a study collecting it can tell a failed member from a lost one.
+            if let (Err(e), Some(dir)) = (&result, args.out.as_ref().or(args.resume.as_ref())) {
+                run::record_error(dir, e);
+            }
+            result
         }
         Command::Study(study) => {
             crate::app::study::cli::dispatch(study, cli.quiet)?;

@@ -228,6 +228,7 @@ fn stability_cell(r: &stability::Row) -> String {
         stability::Result3::BrokeDown => {
             format!("broke down, t = {}", optional(r.t_breakdown, |t| sig(t, 3)))
         }
+        other => other.name().into(),
     }
 }
 

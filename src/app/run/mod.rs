@@ -54,6 +54,16 @@ impl std::fmt::Debug for ProgressHook {
 /// The case as run (after `--set`), for `--resume`.
 pub const CASE_FILE: &str = "case.toml";
 pub use checkpoint::CHECKPOINT_FILE;
+/// The error that stopped a run (`rheosph run --out DIR` that failed: not a breakdown, which
+/// is a result and writes `summary.json`), one line; a new run in the directory removes it.
+pub const ERROR_FILE: &str = "error.txt";
+
+/// Records in `dir` the error that stopped its run (best effort: the error itself is the
+/// report, and the directory may be what failed).
+pub fn record_error(dir: &Path, error: &anyhow::Error) {
+    let line = format!("{error:#}").replace('\n', " ");
+    let _ = crate::app::io::write_atomic(&dir.join(ERROR_FILE), (line + "\n").as_bytes());
+}
 
 /// Runs `f` on a thread of a new rayon pool (or here, on a thread of one already): every
 /// parallel loop of a step then starts from a worker, instead of handing its job to the pool

@@ -79,6 +79,7 @@ impl Run {
         }
         // A previous run's summary must not survive to describe this one.
         let _ = std::fs::remove_file(dir.join("summary.json"));
+        let _ = std::fs::remove_file(dir.join(super::ERROR_FILE));
         let sim = Simulation::new(case.setup());
         let snapshots = if options.snapshots {
             let grid_spacing = case.grid_spacing.unwrap_or(sim.spacing);

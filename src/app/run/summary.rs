@@ -18,6 +18,16 @@ pub enum Outcome {
     BrokeDown,
 }
 
+impl Outcome {
+    /// As `summary.json` names it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Outcome::Finished => "finished",
+            Outcome::BrokeDown => "broke_down",
+        }
+    }
+}
+
 #[derive(Clone, Debug, Serialize, serde::Deserialize)]
 pub struct PpeSummary {
     pub mean_iterations: f64,

@@ -2,7 +2,7 @@
 //! against time for every run on one chart, the time-mean and final L2 error against δr on
 //! log–log axes with the fitted order, and `convergence.csv`.
 
-use super::{fitted_order, run_all, Base, Finished, Variant};
+use super::{fitted_order, run_all, Base, Finished, Missing, Variant};
 use crate::app::plot::FigureFormat;
 use crate::app::plot::{self, Chart, Curve, CurveStyle, PALETTE};
 use crate::app::table::{self, fmt};
@@ -28,6 +28,35 @@ pub struct Row {
     /// Order of l2_mean against the next coarser resolution of the same frame.
     #[serde(serialize_with = "fmt::opt_fixed3")]
     pub order: Option<f64>,
+    /// `finished` or `broke_down` (the run's), or `lost` / `failed` for a member `--collect`
+    /// found without a finished run (no numbers).
+    #[serde(default)]
+    pub outcome: String,
+}
+
+impl Row {
+    /// The row of a member without a finished run: its frame and resolution, no numbers.
+    fn missing(m: &Missing) -> Self {
+        Row {
+            frame: tag(&m.variant, "frame"),
+            resolution: m.case.scene.resolution(),
+            spacing: m.case.scene.spacing(),
+            wall_seconds: f64::NAN,
+            l2_mean: f64::NAN,
+            l2_final: f64::NAN,
+            outcome: m.outcome().into(),
+            ..Default::default()
+        }
+    }
+}
+
+/// The value of a variant's tag (empty if it has none).
+fn tag(variant: &Variant, key: &str) -> String {
+    variant
+        .tags
+        .iter()
+        .find(|(k, _)| k == key)
+        .map_or(String::new(), |(_, v)| v.clone())
 }
 
 /// Runs the study and writes `convergence.csv`, `l2_vs_time.png`, `l2_vs_resolution.png`.
@@ -54,11 +83,15 @@ pub fn run(
             });
         }
     }
-    let finished = run_all(base, variants, out, jobs, quiet)?;
-    let rows = table(&finished, frames);
+    let members = run_all(base, variants, out, jobs, quiet)?;
+    let mut rows = table(&members.finished, frames);
+    let ran = rows.len();
+    rows.extend(members.missing.iter().map(Row::missing));
     let csv = table::write_rows(&rows);
     crate::app::io::write_atomic(&out.join("convergence.csv"), csv.as_bytes())?;
-    charts(&finished, &rows, frames, out, format)?;
+    // The charts show the members that ran.
+    charts(&members.finished, &rows[..ran], frames, out, format)?;
+    members.check_complete(out)?;
     Ok(rows)
 }
 
@@ -92,6 +125,7 @@ fn table(finished: &[Finished], frames: &[String]) -> Vec<Row> {
                 l2_mean,
                 l2_final: s.errors.l2_final.unwrap_or(f64::NAN),
                 order,
+                outcome: s.outcome.name().into(),
             });
         }
     }

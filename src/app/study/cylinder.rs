@@ -2,8 +2,9 @@
 //! (λ = Wi·R/⟨u⟩), each run to steady state and averaged (`[run.steady]`). Writes
 //! `cylinder.csv` (one line per Wi), the centre-line profiles of all runs overlaid
 //! (u/⟨u⟩, τ_xx/(η_s⟨u⟩/R), det A) and K against Wi, beside published values if given.
+//! A member `--collect` finds without a finished run is a `lost` or `failed` line, not drawn.
 
-use super::{run_all, Base, Variant};
+use super::{member_dir, run_all, Base, Missing, Variant};
 use crate::app::plot::FigureFormat;
 use crate::app::plot::{self, Chart, Curve, CurveStyle, PALETTE};
 use crate::app::run::probes::centreline::{CentrelineColumn, CentrelineRow};
@@ -128,35 +129,39 @@ pub fn run(
     let radius = scale.scene.length_scale();
     let lambda_per_wi = radius / scale.derived().velocity_scale;
     let mut from: Vec<Option<std::path::PathBuf>> = vec![None; wis.len()];
-    let mut rows = Vec::new();
+    let (mut rows, mut missing, mut members) = (Vec::new(), Vec::new(), 0);
     let stages = sequence.iter().map(|&r| Some(r)).chain([None]);
     for stage in stages {
-        let variants = wis
+        let variants: Vec<Variant> = wis
             .iter()
             .zip(&from)
             .map(|(&wi, from)| variant(wi, wi * lambda_per_wi, stage, from.clone()))
             .collect();
-        let finished = run_all(base, variants, out, jobs, quiet)?;
-        rows.extend(finished.iter().zip(wis).map(|(f, &wi)| row(f, wi, radius)));
-        from = finished.iter().map(|f| Some(f.dir.clone())).collect();
+        from = variants.iter().map(|v| Some(member_dir(out, v))).collect();
+        let stage_members = run_all(base, variants, out, jobs, quiet)?;
+        let finished = &stage_members.finished;
+        rows.extend(finished.iter().map(|f| row(f, wi_of(&f.variant), radius)));
+        rows.extend(stage_members.missing.iter().map(|m| missing_row(m, radius)));
         if stage.is_none() {
             // A run that broke down before its steady window has no centre-line file: no curve.
             let profiles: Vec<(f64, Vec<CentrelineRow>)> = finished
                 .iter()
-                .zip(wis)
-                .map(|(f, &wi)| {
+                .map(|f| {
                     let rows = table::read_rows(&f.dir.join("centreline.csv"));
-                    (wi, rows.unwrap_or_default())
+                    (wi_of(&f.variant), rows.unwrap_or_default())
                 })
                 .collect();
             let finest: Vec<Row> = rows[rows.len() - wis.len()..].to_vec();
             charts(out, format, &finest, &profiles, reference)?;
         }
+        members += finished.len() + stage_members.missing.len();
+        missing.extend(stage_members.missing);
     }
     crate::app::io::write_atomic(
         &out.join("cylinder.csv"),
         table::write_rows(&rows).as_bytes(),
     )?;
+    super::Incomplete::check(&missing, members, out)?;
     Ok(rows)
 }
 
@@ -194,6 +199,40 @@ fn variant(
         overrides,
         tags: vec![("wi".into(), format!("{wi}"))],
         from,
+    }
+}
+
+/// A member's Wi (its tag).
+fn wi_of(variant: &Variant) -> f64 {
+    variant
+        .tags
+        .iter()
+        .find(|(k, _)| k == "wi")
+        .and_then(|(_, v)| v.parse().ok())
+        .unwrap_or(f64::NAN)
+}
+
+/// The `cylinder.csv` line of a member without a finished run (`lost` or `failed`): its Wi
+/// and R/δr, no numbers.
+fn missing_row(m: &Missing, radius: f64) -> Row {
+    Row {
+        wi: wi_of(&m.variant),
+        radius_over_dr: radius / m.case.derived().particle_spacing,
+        outcome: m.outcome().into(),
+        t_reached: f64::NAN,
+        steady_at: None,
+        u_mean: f64::NAN,
+        drag_k: f64::NAN,
+        drag_k_surface: f64::NAN,
+        k_pressure: f64::NAN,
+        k_solvent: f64::NAN,
+        k_polymer: f64::NAN,
+        peak_tau_xx: f64::NAN,
+        min_det_a: f64::NAN,
+        min_det_a_run: f64::NAN,
+        particles: 0,
+        steps: 0,
+        wall_seconds: f64::NAN,
     }
 }
 

@@ -3,11 +3,12 @@
 //! `--collect DIR` reads the finished members back and assembles the study as if it had run
 //! them itself. A member is finished when its directory holds a `summary.json` and the
 //! `case.toml` the run wrote equals the member's case, the same test as `--reuse`, so a
-//! member run by hand, by a scheduler or by `--jobs` counts alike.
+//! member run by hand, by a scheduler or by `--jobs` counts alike. A member not finished is
+//! a `lost` or `failed` row of the table, and the command ends with [`Incomplete`].
 
-use super::{member_dir, read_finished, Finished, Variant};
+use super::{member_dir, read_finished, Members, Missing, Variant};
 use crate::app::io::write_atomic;
-use crate::app::run::CASE_FILE;
+use crate::app::run::{CASE_FILE, ERROR_FILE};
 use crate::setup::case::Case;
 use anyhow::{bail, Context, Result};
 use std::fmt::Write as _;
@@ -28,7 +29,7 @@ impl std::fmt::Display for Emitted {
         write!(
             f,
             "{n} members written to {d}/{MEMBERS}; run them with {d}/run-members.sh (here, \
-             `--jobs` at a time) or `sbatch {d}/job-array.slurm`, then repeat the study's \
+             `--jobs` at a time) or `cd {d} && sbatch job-array.slurm`, then repeat the study's \
              command with `--collect {d}`",
             n = self.members,
             d = self.dir
@@ -117,25 +118,86 @@ fn write_script(path: &Path, text: &str) -> Result<()> {
     Ok(())
 }
 
-/// Every member's finished run, or an error listing the members not finished.
-pub fn collect(variants: Vec<Variant>, cases: Vec<Case>, out: &Path) -> Result<Vec<Finished>> {
-    let mut finished = Vec::new();
-    let mut missing = Vec::new();
-    for (variant, case) in variants.into_iter().zip(cases) {
+/// Every member's finished run, and the members without one (`lost`, or `failed` with the
+/// error its run recorded).
+pub fn collect(variants: Vec<Variant>, cases: Vec<Case>, out: &Path) -> Result<Members> {
+    let mut members = Members {
+        finished: Vec::new(),
+        missing: Vec::new(),
+    };
+    for (index, (variant, case)) in variants.into_iter().zip(cases).enumerate() {
         let dir = member_dir(out, &variant);
         match read_finished(variant, case, &dir)? {
-            Ok(done) => finished.push(done),
-            Err(_) => missing.push(dir.display().to_string()),
+            Ok(done) => members.finished.push(done),
+            Err((variant, case)) => {
+                let error = std::fs::read_to_string(dir.join(ERROR_FILE))
+                    .ok()
+                    .map(|e| e.trim().to_string());
+                members.missing.push(Missing {
+                    variant,
+                    case,
+                    dir,
+                    index,
+                    error,
+                });
+            }
         }
     }
-    if !missing.is_empty() {
-        bail!(
-            "--collect: {} of {} members have not finished (no summary.json, or a case.toml \
-             that is not this study's):\n  {}",
-            missing.len(),
-            missing.len() + finished.len(),
-            missing.join("\n  ")
-        );
-    }
-    Ok(finished)
+    Ok(members)
 }
+
+/// `--collect` found members not finished: the study's table is written (a `lost` or `failed`
+/// row each), and the command exits with [`EXIT_INCOMPLETE`](crate::app::cli::EXIT_INCOMPLETE).
+#[derive(Debug)]
+pub struct Incomplete {
+    /// Each missing member: its run directory and outcome (with the error, if it failed).
+    pub missing: Vec<String>,
+    /// Their lines in `members.txt`, from 0.
+    pub indices: Vec<usize>,
+    pub members: usize,
+    pub dir: String,
+}
+
+impl Incomplete {
+    /// Ok if no member is missing; else the error naming them.
+    pub fn check(missing: &[Missing], members: usize, out: &Path) -> Result<()> {
+        if missing.is_empty() {
+            return Ok(());
+        }
+        Err(Incomplete {
+            missing: missing
+                .iter()
+                .map(|m| match &m.error {
+                    Some(e) => format!("{}: failed: {e}", m.dir.display()),
+                    None => format!("{}: lost", m.dir.display()),
+                })
+                .collect(),
+            indices: missing.iter().map(|m| m.index).collect(),
+            members,
+            dir: out.display().to_string(),
+        }
+        .into())
+    }
+}
+
+impl std::fmt::Display for Incomplete {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let indices: Vec<String> = self.indices.iter().map(usize::to_string).collect();
+        write!(
+            f,
+            "--collect: {n} of {m} members have not finished; the table has a row for each \
+             (outcome `lost`: no summary.json, or a case.toml that is not this study's; \
+             `failed`: its run stopped on an error):\n  {list}\n\
+             To resume, run only these, then repeat this command:\n  \
+             {d}/run-members.sh\n  \
+             cd {d} && sbatch --array={indices} job-array.slurm",
+            n = self.missing.len(),
+            m = self.members,
+            list = self.missing.join("\n  "),
+            d = self.dir,
+            indices = indices.join(","),
+        )
+    }
+}
+
+impl std::error::Error for Incomplete {}

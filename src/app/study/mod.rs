@@ -16,6 +16,8 @@ mod members;
 pub mod speed_accuracy;
 pub mod stability;
 
+pub use members::Incomplete;
+
 use crate::app::io::SeriesRow;
 use crate::app::run::{self, RunOptions, Summary};
 use crate::setup::case::{self, Case, CaseError};
@@ -41,6 +43,47 @@ pub struct Finished {
     pub summary: Summary,
     pub series: Vec<SeriesRow>,
     pub dir: PathBuf,
+}
+
+/// A member of a study without a finished run, as `--collect` finds it: `failed` if its run
+/// stopped on an error (`rheosph run` wrote it to the directory's `error.txt`), else `lost`
+/// (never run, or its worker ended before the run did). Its row in the study's table carries
+/// this outcome and no numbers; rerunning the member (the emitted scripts, `study()` again)
+/// fills it.
+pub struct Missing {
+    pub variant: Variant,
+    pub case: Case,
+    pub dir: PathBuf,
+    /// Its line in `members.txt`, from 0 (the Slurm array index).
+    pub index: usize,
+    /// The error that stopped its run, if it failed.
+    pub error: Option<String>,
+}
+
+impl Missing {
+    /// The outcome column of its row: `failed` or `lost`.
+    pub fn outcome(&self) -> &'static str {
+        match self.error {
+            Some(_) => "failed",
+            None => "lost",
+        }
+    }
+}
+
+/// The members of a study: the finished runs in order and, from `--collect`, the members
+/// without one (none when the study ran here).
+pub struct Members {
+    pub finished: Vec<Finished>,
+    pub missing: Vec<Missing>,
+}
+
+impl Members {
+    /// Ok when every member finished; else [`Incomplete`], naming the others (after the
+    /// study has written its table with their rows).
+    pub fn check_complete(&self, out: &Path) -> Result<()> {
+        let total = self.finished.len() + self.missing.len();
+        Incomplete::check(&self.missing, total, out)
+    }
 }
 
 /// The base case of a study: its file and the `--set` overrides of every run.
@@ -197,14 +240,16 @@ fn slug(label: &str) -> String {
 }
 
 /// Runs every variant (validated first, so a bad variant fails before any run starts), `jobs`
-/// at a time, each into `out/runs/<label>`. Progress goes to stderr unless `quiet`.
+/// at a time, each into `out/runs/<label>`. Progress goes to stderr unless `quiet`. With
+/// `--collect` it runs none: it reads the finished members back and returns the others as
+/// missing, for the study to write their rows and then report them.
 pub fn run_all(
     base: &Base,
     variants: Vec<Variant>,
     out: &Path,
     jobs: usize,
     quiet: bool,
-) -> Result<Vec<Finished>> {
+) -> Result<Members> {
     let cases: Vec<Case> = variants
         .iter()
         .map(|v| base.case(&v.overrides))
@@ -215,6 +260,22 @@ pub fn run_all(
         Executor::Emit => return Err(members::emit(&variants, &cases, out)?.into()),
         Executor::Collect => return members::collect(variants, cases, out),
     }
+    let finished = run_here(base, variants, cases, out, jobs, quiet)?;
+    Ok(Members {
+        finished,
+        missing: Vec::new(),
+    })
+}
+
+/// Runs the members in this process, `jobs` at a time.
+fn run_here(
+    base: &Base,
+    variants: Vec<Variant>,
+    cases: Vec<Case>,
+    out: &Path,
+    jobs: usize,
+    quiet: bool,
+) -> Result<Vec<Finished>> {
     let jobs = jobs.clamp(1, variants.len().max(1));
     let threads = (rayon::current_num_threads() / jobs).max(1);
     let total = variants.len();

@@ -4,7 +4,7 @@
 //! the same resolution (the largest ratio, `max_output_ratio`; `l2_vs_time.png`), since a
 //! time-mean can hide a start-up that a cheaper scheme gets wrong.
 
-use super::{run_all, Base, Variant};
+use super::{run_all, Base, Missing, Variant};
 use crate::app::io::SeriesRow;
 use crate::app::plot::FigureFormat;
 use crate::app::plot::{self, Chart, Curve, CurveStyle, PALETTE};
@@ -37,6 +37,36 @@ pub struct Point {
     pub max_output_ratio: f64,
     #[serde(default = "table::nan", serialize_with = "fmt::fixed4")]
     pub ratio_at: f64,
+    /// `finished` or `broke_down` (the run's), or `lost` / `failed` for a member `--collect`
+    /// found without a finished run (no numbers, not drawn).
+    #[serde(default)]
+    pub outcome: String,
+}
+
+impl Point {
+    /// The point of a member without a finished run: its label and resolution, no numbers.
+    fn missing(m: &Missing) -> Self {
+        Point {
+            label: m.variant.label.clone(),
+            variant: variant_of(&m.variant),
+            resolution: m.case.scene.resolution(),
+            wall_seconds: f64::NAN,
+            l2_mean: f64::NAN,
+            l2_final: f64::NAN,
+            max_output_ratio: f64::NAN,
+            ratio_at: f64::NAN,
+            outcome: m.outcome().into(),
+            ..Default::default()
+        }
+    }
+}
+
+/// The `--vary` part of a member's label (its `variant` tag).
+fn variant_of(v: &Variant) -> String {
+    v.tags
+        .iter()
+        .find(|(k, _)| k == "variant")
+        .map_or(String::new(), |(_, v)| v.clone())
 }
 
 /// The largest ratio of `run`'s L2 error to `reference`'s, the reference interpolated
@@ -99,24 +129,23 @@ pub fn run(
             variants.push(w);
         }
     }
-    let finished = run_all(base, variants, out, jobs, quiet)?;
+    let members = run_all(base, variants, out, jobs, quiet)?;
+    let finished = &members.finished;
+    // The reference of the output ratio: the first variant's run (NaN if it is missing).
+    let first = schemes.first().map_or(String::new(), |v| v.label.clone());
     let mut points: Vec<Point> = finished
         .iter()
         .map(|f| {
             let ratio = finished
                 .iter()
+                .filter(|g| variant_of(&g.variant) == first)
                 .find(|g| g.case.scene.resolution() == f.case.scene.resolution())
                 .map_or((f64::NAN, f64::NAN), |g| {
                     max_output_ratio(&f.series, &g.series)
                 });
             Point {
                 label: f.variant.label.clone(),
-                variant: f
-                    .variant
-                    .tags
-                    .iter()
-                    .find(|(k, _)| k == "variant")
-                    .map_or(String::new(), |(_, v)| v.clone()),
+                variant: variant_of(&f.variant),
                 resolution: f.case.scene.resolution(),
                 wall_seconds: f.summary.wall_seconds,
                 l2_mean: f.summary.errors.l2_time_mean.unwrap_or(f64::NAN),
@@ -126,14 +155,19 @@ pub fn run(
                 pareto: false,
                 max_output_ratio: ratio.0,
                 ratio_at: ratio.1,
+                outcome: f.summary.outcome.name().into(),
             }
         })
         .collect();
     mark_pareto(&mut points);
+    // Members without a run: rows of the table, after the Pareto marking and not drawn.
+    let ran = points.len();
+    points.extend(members.missing.iter().map(Point::missing));
     let csv = table::write_rows(&points);
-    super::draw_l2_histories(&finished, out, format)?;
+    super::draw_l2_histories(finished, out, format)?;
     crate::app::io::write_atomic(&out.join("speed_accuracy.csv"), csv.as_bytes())?;
-    let mut front: Vec<(f64, f64)> = points
+    let ran = &points[..ran];
+    let mut front: Vec<(f64, f64)> = ran
         .iter()
         .filter(|p| p.pareto)
         .map(|p| (p.wall_seconds, p.l2_mean))
@@ -152,7 +186,7 @@ pub fn run(
             } else {
                 v.label.clone()
             },
-            points: points
+            points: ran
                 .iter()
                 .filter(|p| p.variant == v.label)
                 .map(|p| (p.wall_seconds, p.l2_mean))
@@ -174,6 +208,7 @@ pub fn run(
         },
         &curves,
     )?;
+    members.check_complete(out)?;
     Ok(points)
 }
 
@@ -195,6 +230,7 @@ mod tests {
             pareto: false,
             max_output_ratio: f64::NAN,
             ratio_at: f64::NAN,
+            outcome: String::new(),
         };
         let mut pts = vec![p(1.0, 0.1), p(2.0, 0.05), p(3.0, 0.2), p(4.0, 0.01)];
         mark_pareto(&mut pts);

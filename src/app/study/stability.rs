@@ -4,7 +4,9 @@
 //! Outcomes: `stable` (finished, time-mean L2 error against the reference within the
 //! accuracy threshold), `inaccurate` (finished, but left the analytic solution: time-mean L2
 //! above the threshold), `broke_down` (stopped: non-finite values, runaway energy or
-//! conformation, a failed solve; the time and reason are recorded). The default threshold,
+//! conformation, a failed solve; the time and reason are recorded); and, for a member
+//! `--collect` finds without a finished run, `lost` or `failed` (its error as the reason, no
+//! numbers; not drawn on the map). The default threshold,
 //! 10 % of U, is about ten times the error of a resolved run at H/δr = 30 (0.9 %) and far
 //! below the O(1) errors of a run that has left the solution.
 
@@ -25,6 +27,10 @@ pub enum Result3 {
     Stable,
     Inaccurate,
     BrokeDown,
+    /// Not run, or its worker ended before the run did (`--collect`).
+    Lost,
+    /// Its run stopped on an error (`--collect`).
+    Failed,
 }
 
 impl Result3 {
@@ -33,7 +39,14 @@ impl Result3 {
             Result3::Stable => "stable",
             Result3::Inaccurate => "inaccurate",
             Result3::BrokeDown => "broke_down",
+            Result3::Lost => "lost",
+            Result3::Failed => "failed",
         }
+    }
+
+    /// Whether the member ran to a result (its row has numbers).
+    pub fn ran(self) -> bool {
+        !matches!(self, Result3::Lost | Result3::Failed)
     }
 }
 
@@ -57,6 +70,28 @@ pub struct Row {
     pub steps: u64,
     #[serde(serialize_with = "fmt::fixed3")]
     pub wall_seconds: f64,
+}
+
+impl Row {
+    /// The row of a member with its variant's name and Wi (from its label and tag), and
+    /// nothing measured yet.
+    fn of(variant: &Variant) -> Self {
+        let wi = variant
+            .tags
+            .iter()
+            .find(|(k, _)| k == "wi")
+            .and_then(|(_, v)| v.parse().ok())
+            .unwrap_or(f64::NAN);
+        let name = variant
+            .label
+            .rsplit_once(" Wi=")
+            .map_or(String::new(), |(a, _)| a.to_string());
+        Row {
+            variant: if name.is_empty() { "base".into() } else { name },
+            wi,
+            ..Default::default()
+        }
+    }
 }
 
 /// Runs every variant at every Wi (λ = Wi·H/U) and writes `stability.csv` and
@@ -86,31 +121,18 @@ pub fn run(
             variants.push(w);
         }
     }
-    let finished = run_all(base, variants, out, jobs, quiet)?;
-    let rows: Vec<Row> = finished
+    let members = run_all(base, variants, out, jobs, quiet)?;
+    let mut rows: Vec<Row> = members
+        .finished
         .iter()
         .map(|f| {
             let s = &f.summary;
-            let wi: f64 = f
-                .variant
-                .tags
-                .iter()
-                .find(|(k, _)| k == "wi")
-                .and_then(|(_, v)| v.parse().ok())
-                .unwrap_or(f64::NAN);
-            let name: String = f
-                .variant
-                .label
-                .rsplit_once(" Wi=")
-                .map_or(String::new(), |(a, _)| a.to_string());
             let outcome = match (s.outcome, s.errors.l2_time_mean) {
                 (Outcome::BrokeDown, _) => Result3::BrokeDown,
                 (Outcome::Finished, Some(l2)) if l2 <= accuracy => Result3::Stable,
                 (Outcome::Finished, _) => Result3::Inaccurate,
             };
             Row {
-                variant: if name.is_empty() { "base".into() } else { name },
-                wi,
                 outcome,
                 t_breakdown: (s.outcome == Outcome::BrokeDown).then_some(s.t_reached),
                 reason: s.reason.clone(),
@@ -118,12 +140,23 @@ pub fn run(
                 l2_final: s.errors.l2_final,
                 steps: s.steps,
                 wall_seconds: s.wall_seconds,
+                ..Row::of(&f.variant)
             }
         })
         .collect();
+    rows.extend(members.missing.iter().map(|m| Row {
+        outcome: match m.error {
+            Some(_) => Result3::Failed,
+            None => Result3::Lost,
+        },
+        reason: m.error.clone(),
+        wall_seconds: f64::NAN,
+        ..Row::of(&m.variant)
+    }));
     let csv = table::write_rows_verbatim(&rows);
     crate::app::io::write_atomic(&out.join("stability.csv"), csv.as_bytes())?;
     map(&rows, accuracy, out, format)?;
+    members.check_complete(out)?;
     Ok(rows)
 }
 
@@ -134,10 +167,12 @@ pub fn replot(out: &Path, format: FigureFormat, accuracy: f64) -> Result<()> {
 }
 
 /// Wi on a log axis, one row per variant named on the axis, the outcome as colour and marker;
-/// the legend gives each row's largest stable Wi.
+/// the legend gives each row's largest stable Wi. Members that did not run (`lost`, `failed`)
+/// are left off.
 fn map(rows: &[Row], accuracy: f64, out: &Path, format: FigureFormat) -> Result<()> {
+    let rows: Vec<&Row> = rows.iter().filter(|r| r.outcome.ran()).collect();
     let mut names: Vec<String> = Vec::new();
-    for r in rows {
+    for r in &rows {
         if !names.contains(&r.variant) {
             names.push(r.variant.clone());
         }
@@ -166,7 +201,11 @@ fn map(rows: &[Row], accuracy: f64, out: &Path, format: FigureFormat) -> Result<
     for (k, name) in names.iter().enumerate() {
         // Stable up to the first Wi that is not, and any stable Wi above it (stability need not
         // be monotone in Wi within a fixed end time).
-        let mut runs: Vec<&Row> = rows.iter().filter(|r| &r.variant == name).collect();
+        let mut runs: Vec<&Row> = rows
+            .iter()
+            .copied()
+            .filter(|r| &r.variant == name)
+            .collect();
         runs.sort_by(|a, b| a.wi.total_cmp(&b.wi));
         let first_failure = runs.iter().position(|r| r.outcome != Result3::Stable);
         let upto = match first_failure {
