@@ -21,10 +21,11 @@
 //!   that carry the quadratic continuation keep it: it has no kink);
 //! * `Solenoidal` (default): that, less ½ tr(∇u) I: the remaining discrete divergence, which the
 //!   incompressible constitutive equation does not contain, is removed, and det A ≥ 1 holds for
-//!   Oldroyd-B whatever the operator's error.
+//!   Oldroyd-B whatever the operator's error. In D dimensions that is (tr ∇u / D) I.
 
-use crate::engine::math::{Mat2, Vec2};
+use crate::engine::dimension::{Dim, Dimension};
 use crate::engine::neighbourhood::Hood;
+use nalgebra::{SMatrix, SVector};
 
 /// The velocity gradient of the constitutive update (see
 /// [`crate::engine::kinematics::ConstitutiveGradient`]).
@@ -52,19 +53,22 @@ pub enum ConstitutiveGradient {
     Solenoidal,
 }
 
-/// ∇u^n and the constitutive gradient, with their buffers.
+/// ∇u^n and the constitutive gradient, with their buffers, in D dimensions (the default 2).
 #[derive(Clone, Debug)]
-pub struct Kinematics {
+pub struct Kinematics<const D: usize = 2> {
     pub rule: ConstitutiveGradient,
     /// u^n followed by the ghosts' values.
-    pub velocity_ext: Vec<Vec2>,
+    pub velocity_ext: Vec<SVector<f64, D>>,
     /// ∇u^n, `[(a, b)] = ∂u_a/∂x_b`.
-    pub grad_u: Vec<Mat2>,
+    pub grad_u: Vec<SMatrix<f64, D, D>>,
     /// The constitutive gradient (empty for `Raw`: it is `grad_u`).
-    constitutive: Vec<Mat2>,
+    constitutive: Vec<SMatrix<f64, D, D>>,
 }
 
-impl Kinematics {
+impl<const D: usize> Kinematics<D>
+where
+    Dim<D>: Dimension<D>,
+{
     pub fn new(rule: ConstitutiveGradient) -> Self {
         Self {
             rule,
@@ -81,11 +85,11 @@ impl Kinematics {
     }
 
     /// ∇u^n of `velocity` (and the constitutive gradient).
-    pub fn update(&mut self, hood: Hood, velocity: &[Vec2]) {
+    pub fn update(&mut self, hood: Hood<D>, velocity: &[SVector<f64, D>]) {
         let Hood { list, sums, ghosts } = hood;
         let n = velocity.len();
         ghosts.continue_velocity(velocity, &mut self.velocity_ext);
-        self.grad_u.resize(n, Mat2::zeros());
+        self.grad_u.resize(n, SMatrix::zeros());
         sums.gradient_vector(list, &self.velocity_ext, &mut self.grad_u);
         if self.rule == ConstitutiveGradient::Raw {
             self.constitutive.clear();
@@ -100,14 +104,15 @@ impl Kinematics {
             &mut self.constitutive,
         );
         if self.rule == ConstitutiveGradient::Solenoidal {
+            let share = 1.0 / D as f64;
             self.constitutive
                 .par_iter_mut()
-                .for_each(|g| *g -= Mat2::identity() * (0.5 * g.trace()));
+                .for_each(|g| *g -= SMatrix::identity() * (share * g.trace()));
         }
     }
 
     /// The gradient step 3 uses.
-    pub fn constitutive(&self) -> &[Mat2] {
+    pub fn constitutive(&self) -> &[SMatrix<f64, D, D>] {
         match self.rule {
             ConstitutiveGradient::Raw => &self.grad_u,
             _ => &self.constitutive,
@@ -131,14 +136,21 @@ impl Kinematics {
 /// error back. On the confined cylinder (R/δr = 10, Oldroyd-B, Wi = 0.5) the override raised
 /// the flow's drag K from 124.0 to 127.2 (published 118.83), and without the trace removal
 /// to 138.1.
-fn even_normal_correction(hood: Hood, extended: &[Vec2], n: usize, grad: &mut [Mat2]) {
+fn even_normal_correction<const D: usize>(
+    hood: Hood<D>,
+    extended: &[SVector<f64, D>],
+    n: usize,
+    grad: &mut [SMatrix<f64, D, D>],
+) where
+    Dim<D>: Dimension<D>,
+{
     let Hood { list, sums, ghosts } = hood;
     if ghosts.is_empty() {
         return;
     }
     let dv = sums.dv;
     grad.par_iter_mut().enumerate().for_each(|(i, g)| {
-        let mut acc = Mat2::zeros();
+        let mut acc = SMatrix::<f64, D, D>::zeros();
         for k in list.range(i) {
             let j = list.index[k] as usize;
             if j < n {

@@ -15,6 +15,7 @@
 //! CSR (sprs), whose buffers are handed back after every solve.
 
 use crate::engine::boundary::{Field, Ghosts};
+use crate::engine::dimension::{Dim, Dimension};
 use crate::engine::neighbourhood::Hood;
 use crate::engine::neighbours::{NeighbourList, RowWriter};
 use crate::engine::operators::pair_viscosity;
@@ -36,7 +37,14 @@ pub struct LaplacianMatrix {
 impl LaplacianMatrix {
     /// The CSR slot of each row: the diagonal and one entry per neighbour, or for a
     /// continued ghost's velocity ([`Ghosts::velocity_stencil`]) one per point of its stencil.
-    fn size_slots(&mut self, list: &NeighbourList, ghosts: &Ghosts, field: Field) {
+    fn size_slots<const D: usize>(
+        &mut self,
+        list: &NeighbourList<D>,
+        ghosts: &Ghosts<D>,
+        field: Field,
+    ) where
+        Dim<D>: Dimension<D>,
+    {
         let n = list.rows();
         self.slot_offsets.clear();
         let stencils = field == Field::Velocity
@@ -71,7 +79,10 @@ impl LaplacianMatrix {
     /// Assembles the operator `op` with mirrors of its field folded into their parents'
     /// columns; rows flagged in `identity_rows` (empty: none) are replaced by identity rows,
     /// the Dirichlet rows of free-surface particles.
-    pub fn assemble(&mut self, hood: Hood, op: Operator, identity_rows: &[bool]) {
+    pub fn assemble<const D: usize>(&mut self, hood: Hood<D>, op: Operator, identity_rows: &[bool])
+    where
+        Dim<D>: Dimension<D>,
+    {
         let Hood { list, ghosts, .. } = hood;
         let field = op.field;
         let n = list.rows();
@@ -215,14 +226,17 @@ pub struct Operator<'a> {
 
 /// Writes row i of `op` into its slot (diagonal first, then one entry per neighbour
 /// column), sorts it by column, merges duplicates, and returns the number of entries kept.
-fn assemble_row(
+fn assemble_row<const D: usize>(
     i: usize,
     n_fluid: usize,
-    hood: Hood,
+    hood: Hood<D>,
     op: Operator,
     cols: &mut [usize],
     vals: &mut [f64],
-) -> usize {
+) -> usize
+where
+    Dim<D>: Dimension<D>,
+{
     let Hood { list, sums, ghosts } = hood;
     let Operator {
         field,

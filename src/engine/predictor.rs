@@ -10,35 +10,40 @@
 //! the body force, a surface tension's cohesion force, and the old pressure gradient (incremental projection only, see
 //! [`crate::engine::projection`]).
 
-use crate::engine::math::{Mat2, Vec2};
+use crate::engine::dimension::{Matrix, Vector};
 use rayon::prelude::*;
 
 /// The terms of (24) besides u^n.
-pub struct PredictorTerms<'a> {
+pub struct PredictorTerms<'a, const D: usize = 2> {
     /// ∇u^n.
-    pub grad_u: &'a [Mat2],
+    pub grad_u: &'a [Matrix<D>],
     /// The shift velocity u_ps.
-    pub u_ps: &'a [Vec2],
+    pub u_ps: &'a [Vector<D>],
     /// ∇²u^n and ν (explicit viscosity).
-    pub viscous: Option<(&'a [Vec2], f64)>,
+    pub viscous: Option<(&'a [Vector<D>], f64)>,
     /// ∇·Φ (viscoelastic fluids).
-    pub stress: Option<&'a [Vec2]>,
-    pub body_force: Vec2,
+    pub stress: Option<&'a [Vector<D>]>,
+    pub body_force: Vector<D>,
     /// ∇p^n (incremental projection).
-    pub old_pressure_gradient: Option<&'a [Vec2]>,
+    pub old_pressure_gradient: Option<&'a [Vector<D>]>,
     /// The weakly compressible scheme's pressure, polymer-stress, artificial viscosity and
     /// stress accelerations (see [`crate::engine::weakly_compressible`]).
-    pub weak: Option<&'a [Vec2]>,
+    pub weak: Option<&'a [Vector<D>]>,
     /// A free surface's own accelerations: the cohesion force (surface tension as a pair
     /// force, [`crate::engine::free_surface::cohesion`]) or the shear-free flux of the
     /// viscous term ([`crate::engine::free_surface::shear_free`]).
-    pub surface_force: Option<&'a [Vec2]>,
+    pub surface_force: Option<&'a [Vector<D>]>,
     /// 1/ρ.
     pub inv_rho: f64,
 }
 
 /// u* from u^n (`velocity`) over `dt`, into `out`.
-pub fn predict(terms: &PredictorTerms, velocity: &[Vec2], dt: f64, out: &mut Vec<Vec2>) {
+pub fn predict<const D: usize>(
+    terms: &PredictorTerms<D>,
+    velocity: &[Vector<D>],
+    dt: f64,
+    out: &mut Vec<Vector<D>>,
+) {
     let PredictorTerms {
         grad_u,
         u_ps,
@@ -50,7 +55,7 @@ pub fn predict(terms: &PredictorTerms, velocity: &[Vec2], dt: f64, out: &mut Vec
         surface_force,
         inv_rho,
     } = *terms;
-    out.resize(velocity.len(), Vec2::zeros());
+    out.resize(velocity.len(), Vector::<D>::zeros());
     out.par_iter_mut()
         .zip(velocity.par_iter())
         .enumerate()

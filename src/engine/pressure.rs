@@ -15,9 +15,9 @@
 //! ([`SurfaceRows::blended`]).
 
 use crate::engine::boundary::Field;
+use crate::engine::dimension::{Dim, Dimension, Vector};
 use crate::engine::frame::Frame;
 use crate::engine::laplacian_matrix::{LaplacianMatrix, Operator};
-use crate::engine::math::Vec2;
 use crate::engine::neighbourhood::Hood;
 use crate::engine::operators::PpeLaplacian;
 use crate::engine::settings::{in_range, positive, Invalid};
@@ -85,7 +85,10 @@ impl PressureSystem {
 
     /// Assembles the matrix `−∇²/ρ` for the fluid particles, with identity (Dirichlet) rows
     /// for the particles flagged in `surface` (empty: none).
-    pub fn assemble_matrix(&mut self, hood: Hood, density: f64, surface: &[bool]) {
+    pub fn assemble_matrix<const D: usize>(&mut self, hood: Hood<D>, density: f64, surface: &[bool])
+    where
+        Dim<D>: Dimension<D>,
+    {
         let op = Operator {
             field: Field::Pressure,
             d: 0.0,
@@ -143,23 +146,27 @@ impl PressureSystem {
     }
 }
 
-/// Steps 5 and 6: the PPE of one step and the projection of u* with its solution.
-pub struct PressureStage {
+/// Steps 5 and 6: the PPE of one step and the projection of u* with its solution, in D
+/// dimensions (the default 2).
+pub struct PressureStage<const D: usize = 2> {
     system: PressureSystem,
     settings: PpeSettings,
     strategy: Strategy,
     /// u* followed by the ghosts' values.
-    velocity_ext: Vec<Vec2>,
+    velocity_ext: Vec<Vector<D>>,
     divergence: Vec<f64>,
     pressure_ext: Vec<f64>,
-    gradient: Vec<Vec2>,
+    gradient: Vec<Vector<D>>,
     /// The matrix must be reassembled (the particle configuration changed).
     matrix_stale: bool,
     /// The density-invariant source, if chosen.
     volume: Option<VolumeRelaxation>,
 }
 
-impl PressureStage {
+impl<const D: usize> PressureStage<D>
+where
+    Dim<D>: Dimension<D>,
+{
     pub fn new(settings: PpeSettings, frame: Frame, volume: Option<VolumeRelaxation>) -> Self {
         Self {
             system: PressureSystem::new(),
@@ -188,7 +195,7 @@ impl PressureStage {
     /// the rows with a full support (`support`: outside the free surface's FS and NS).
     pub fn relax_volume(
         &mut self,
-        hood: Hood,
+        hood: Hood<D>,
         support: impl Fn(usize) -> RowSupport + Sync,
         dt: f64,
     ) {
@@ -204,7 +211,7 @@ impl PressureStage {
     }
 
     /// Step 5: ∇·u* (negative form of (20)), with u* extended to the ghosts.
-    pub fn divergence(&mut self, hood: Hood, velocity_star: &[Vec2]) {
+    pub fn divergence(&mut self, hood: Hood<D>, velocity_star: &[Vector<D>]) {
         let Hood { list, sums, ghosts } = hood;
         ghosts.continue_velocity(velocity_star, &mut self.velocity_ext);
         self.divergence.resize(velocity_star.len(), 0.0);
@@ -218,13 +225,13 @@ impl PressureStage {
     }
 
     /// u* followed by the ghosts' values, after [`Self::divergence`].
-    pub fn velocity_star_ext(&self) -> &[Vec2] {
+    pub fn velocity_star_ext(&self) -> &[Vector<D>] {
         &self.velocity_ext
     }
 
     /// Step 5: the matrix (when the particles moved, or a row is blended) and the right-hand
     /// side, with the free surface's `rows`.
-    pub fn assemble(&mut self, hood: Hood, density: f64, dt: f64, rows: SurfaceRows) {
+    pub fn assemble(&mut self, hood: Hood<D>, density: f64, dt: f64, rows: SurfaceRows) {
         // A blended row's weight changes with (36)'s margin even where the particles
         // stand still (an Eulerian frame), and so does a row that was blended last step.
         if !rows.blended.is_empty() || !self.system.blended.is_empty() {
@@ -274,14 +281,15 @@ impl PressureStage {
     /// Step 6, eq. (26): u* −= (δt/ρ)∇φ, φ the solved field (p^{n+1} or its increment).
     pub fn project(
         &mut self,
-        hood: Hood,
+        hood: Hood<D>,
         solved: &[f64],
         dt_over_rho: f64,
-        velocity_star: &mut [Vec2],
+        velocity_star: &mut [Vector<D>],
     ) {
         let Hood { list, sums, ghosts } = hood;
         ghosts.extend_pressure(solved, &mut self.pressure_ext);
-        self.gradient.resize(velocity_star.len(), Vec2::zeros());
+        self.gradient
+            .resize(velocity_star.len(), Vector::<D>::zeros());
         sums.gradient_scalar(list, &self.pressure_ext, &mut self.gradient);
         velocity_star
             .par_iter_mut()

@@ -10,7 +10,7 @@
 //!   settles). Its PPE carries the [`PressureStabilisation`] of p^n, without which its steady
 //!   state has no stable pressure; with it the steady state does not depend on δt.
 
-use crate::engine::math::Vec2;
+use crate::engine::dimension::{Dim, Dimension, Vector};
 use crate::engine::neighbourhood::Hood;
 use crate::engine::stabilisation::PressureStabilisation;
 use rayon::prelude::*;
@@ -24,20 +24,23 @@ pub enum Projection {
 
 /// The projection's buffers.
 #[derive(Clone, Debug)]
-pub struct ProjectionStage {
+pub struct ProjectionStage<const D: usize = 2> {
     pub kind: Projection,
     /// p^{n+1} − p^n (incremental).
     increment: Vec<f64>,
     pressure_ext: Vec<f64>,
-    old_gradient: Vec<Vec2>,
+    old_gradient: Vec<Vector<D>>,
     /// The incremental projection's stabilisation (None for the standard one).
-    stabilisation: Option<PressureStabilisation>,
+    stabilisation: Option<PressureStabilisation<D>>,
 }
 
-impl ProjectionStage {
+impl<const D: usize> ProjectionStage<D>
+where
+    Dim<D>: Dimension<D>,
+{
     /// The projection `kind`; `stabilisation` is the incremental one's
     /// ([`PressureStabilisation::new`]), dropped by the standard one.
-    pub fn new(kind: Projection, stabilisation: PressureStabilisation) -> Self {
+    pub fn new(kind: Projection, stabilisation: PressureStabilisation<D>) -> Self {
         Self {
             kind,
             increment: Vec::new(),
@@ -63,7 +66,7 @@ impl ProjectionStage {
     /// divergence ∇·u* (nothing for the standard projection).
     pub fn stabilise(
         &mut self,
-        hood: Hood,
+        hood: Hood<D>,
         pressure: &[f64],
         density: f64,
         dt: f64,
@@ -75,12 +78,17 @@ impl ProjectionStage {
     }
 
     /// Step 4: ∇p^n for the predictor's −∇p^n/ρ (incremental), or None.
-    pub fn old_pressure_gradient(&mut self, hood: Hood, pressure: &[f64]) -> Option<&[Vec2]> {
+    pub fn old_pressure_gradient(
+        &mut self,
+        hood: Hood<D>,
+        pressure: &[f64],
+    ) -> Option<&[Vector<D>]> {
         let Hood { list, sums, ghosts } = hood;
         match self.kind {
             Projection::Standard => None,
             Projection::Incremental => {
-                self.old_gradient.resize(pressure.len(), Vec2::zeros());
+                self.old_gradient
+                    .resize(pressure.len(), Vector::<D>::zeros());
                 ghosts.extend_pressure(pressure, &mut self.pressure_ext);
                 sums.gradient_scalar(list, &self.pressure_ext, &mut self.old_gradient);
                 Some(&self.old_gradient)

@@ -20,10 +20,11 @@
 //! `α_Ak Σ_j Q(q) r̂_ij` with α_Ak = 64/(πh) and q = |r_ij|/h. In our sign
 //! convention (u_ps = −D∇C) a push of i away from j enters ∇C as −Q r̂_ij.
 
+use crate::engine::boundary::Wall;
+use crate::engine::dimension::{Dim, Dimension, Vector};
 use crate::engine::frame::Frame;
 use crate::engine::free_surface::FreeSurface;
 use crate::engine::kernel::QuinticSpline;
-use crate::engine::math::Vec2;
 use crate::engine::neighbours::NeighbourList;
 use crate::engine::operators::KernelSums;
 use rayon::prelude::*;
@@ -55,31 +56,37 @@ impl ShiftRule {
 }
 
 /// What the shift velocity depends on besides the velocity.
-pub struct ShiftInputs<'a> {
-    pub list: &'a NeighbourList,
-    pub sums: &'a KernelSums,
+pub struct ShiftInputs<'a, const D: usize = 2>
+where
+    Dim<D>: Dimension<D>,
+{
+    pub list: &'a NeighbourList<D>,
+    pub sums: &'a KernelSums<D>,
     pub kernel: &'a QuinticSpline,
     pub spacing: f64,
     pub dt: f64,
     /// Fluid positions r* (for the distance to walls).
-    pub points: &'a [Vec2],
-    pub walls: &'a [crate::engine::boundary::Wall],
+    pub points: &'a [Vector<D>],
+    pub walls: &'a [Wall<D>],
     /// The free surface of this step (free-surface scenes).
-    pub surface: Option<&'a FreeSurface>,
+    pub surface: Option<&'a FreeSurface<D>>,
 }
 
 /// Step 2's shift velocity: the rule and its buffers.
 #[derive(Clone, Debug)]
-pub struct Shifting {
+pub struct Shifting<const D: usize = 2> {
     pub rule: ShiftRule,
     /// Internal flows: no shift into a wall within this reach (set where gaps narrower than
     /// the kernel support are allowed: discs under lubrication, [`Self::keep_off_walls`]).
     keep_off: Option<f64>,
-    grad_c: Vec<Vec2>,
+    grad_c: Vec<Vector<D>>,
     region: Vec<bool>,
 }
 
-impl Shifting {
+impl<const D: usize> Shifting<D>
+where
+    Dim<D>: Dimension<D>,
+{
     pub fn new(rule: ShiftRule) -> Self {
         Self {
             rule,
@@ -106,7 +113,12 @@ impl Shifting {
     }
 
     /// u_ps of every fluid particle from u^n (`velocity`).
-    pub fn compute(&mut self, inputs: &ShiftInputs, velocity: &[Vec2], u_ps: &mut [Vec2]) {
+    pub fn compute(
+        &mut self,
+        inputs: &ShiftInputs<D>,
+        velocity: &[Vector<D>],
+        u_ps: &mut [Vector<D>],
+    ) {
         let ShiftInputs {
             list, sums, kernel, ..
         } = *inputs;
@@ -116,9 +128,9 @@ impl Shifting {
                 .par_iter_mut()
                 .zip(velocity.par_iter())
                 .for_each(|(s, u)| *s = -u),
-            ShiftRule::Off => u_ps.iter_mut().for_each(|s| *s = Vec2::zeros()),
+            ShiftRule::Off => u_ps.iter_mut().for_each(|s| *s = Vector::<D>::zeros()),
             ShiftRule::Internal => {
-                self.grad_c.resize(n, Vec2::zeros());
+                self.grad_c.resize(n, Vector::<D>::zeros());
                 concentration_gradient(list, sums, kernel, inputs.spacing, &mut self.grad_c);
                 internal_shifting_velocity(&self.grad_c, kernel.h(), inputs.dt, u_ps);
                 if let Some(reach) = self.keep_off {
@@ -130,7 +142,7 @@ impl Shifting {
                 let surface = inputs
                     .surface
                     .expect("free-surface shifting runs with the free-surface stage");
-                self.grad_c.resize(n, Vec2::zeros());
+                self.grad_c.resize(n, Vector::<D>::zeros());
                 concentration_gradient(list, sums, kernel, inputs.spacing, &mut self.grad_c);
                 if repulsion {
                     add_repulsion(list, kernel, &surface.on_surface, &mut self.grad_c);
@@ -161,17 +173,19 @@ impl Shifting {
 const CLUMP_WEIGHT: f64 = 0.25;
 
 /// Concentration gradient ∇C_i of eq. (42) (internal flows: no repulsive α_Ak term).
-pub fn concentration_gradient(
-    list: &NeighbourList,
-    sums: &KernelSums,
+pub fn concentration_gradient<const D: usize>(
+    list: &NeighbourList<D>,
+    sums: &KernelSums<D>,
     kernel: &QuinticSpline,
     dr: f64,
-    out: &mut [Vec2],
-) {
+    out: &mut [Vector<D>],
+) where
+    Dim<D>: Dimension<D>,
+{
     let w_ref = kernel.value(dr);
     let dv = sums.dv;
     out.par_iter_mut().enumerate().for_each(|(i, g)| {
-        let mut acc = Vec2::zeros();
+        let mut acc = Vector::<D>::zeros();
         for k in list.range(i) {
             let ratio = sums.value[k] / w_ref;
             let r2 = ratio * ratio;
@@ -182,7 +196,12 @@ pub fn concentration_gradient(
 }
 
 /// Shifting velocity for internal flows, u_ps = −(h²/(4δt)) ∇C, eqs. (40)–(41).
-pub fn internal_shifting_velocity(grad_c: &[Vec2], h: f64, dt: f64, out: &mut [Vec2]) {
+pub fn internal_shifting_velocity<const D: usize>(
+    grad_c: &[Vector<D>],
+    h: f64,
+    dt: f64,
+    out: &mut [Vector<D>],
+) {
     let diffusivity = h * h / (4.0 * dt);
     out.par_iter_mut()
         .zip(grad_c.par_iter())
@@ -203,11 +222,11 @@ fn repulsion_weight(q: f64) -> f64 {
 
 /// Adds the repulsive term of (42), weighted by α_Ak of (44), to ∇C of the particles not on
 /// the free surface.
-pub fn add_repulsion(
-    list: &NeighbourList,
+pub fn add_repulsion<const D: usize>(
+    list: &NeighbourList<D>,
     kernel: &QuinticSpline,
     on_surface: &[bool],
-    grad_c: &mut [Vec2],
+    grad_c: &mut [Vector<D>],
 ) {
     let alpha = 64.0 / (std::f64::consts::PI * kernel.h());
     // q = r/h: the term reaches nearest neighbours only (h = 1.3δr), where Q falls with
@@ -220,7 +239,7 @@ pub fn add_repulsion(
         if on_surface[i] {
             return;
         }
-        let mut acc = Vec2::zeros();
+        let mut acc = Vector::<D>::zeros();
         for k in list.range(i) {
             let r = list.rij[k];
             let d = r.norm();
@@ -246,15 +265,17 @@ pub fn add_repulsion(
 /// concentration, stable only for Dδt/h² of order 1/4, and the second form of (41) gives 0.8
 /// at δt = 0.2h/|u|. Uncapped, the interior of a drop in free fall (W/δr = 40) had shifting
 /// speeds growing 3.2 → 14 → 24 U over its first three steps.
-pub fn free_surface_shifting_velocity(
-    grad_c: &[Vec2],
-    velocity: &[Vec2],
+pub fn free_surface_shifting_velocity<const D: usize>(
+    grad_c: &[Vector<D>],
+    velocity: &[Vector<D>],
     surface_region: &[bool],
-    normal: &[Vec2],
+    normal: &[Vector<D>],
     h: f64,
     dt: f64,
-    out: &mut [Vec2],
-) {
+    out: &mut [Vector<D>],
+) where
+    Dim<D>: Dimension<D>,
+{
     let cap = h * h / (4.0 * dt);
     let max_speed = velocity
         .par_iter()
@@ -269,8 +290,7 @@ pub fn free_surface_shifting_velocity(
         };
         let diffusivity = (4.0 * h * (speed + floor)).min(cap);
         *u_s = if surface_region[i] {
-            let m = Vec2::new(-normal[i].y, normal[i].x);
-            -diffusivity * m.dot(&grad_c[i]) * m
+            Dim::<D>::tangential(-diffusivity, &grad_c[i], &normal[i])
         } else {
             -diffusivity * grad_c[i]
         };
@@ -283,13 +303,15 @@ pub fn free_surface_shifting_velocity(
 /// pressure resists (their PPE rows are Dirichlet). Measured: the Oldroyd-B drop at De = 10
 /// (W/δr = 40) lost a contact-line particle through the plate at t* = 7.9, and at β ≤ 0.05 at
 /// impact.
-pub fn keep_off_walls(
-    points: &[Vec2],
-    walls: &[crate::engine::boundary::Wall],
+pub fn keep_off_walls<const D: usize>(
+    points: &[Vector<D>],
+    walls: &[Wall<D>],
     region: &[bool],
     reach: f64,
-    u_ps: &mut [Vec2],
-) {
+    u_ps: &mut [Vector<D>],
+) where
+    Dim<D>: Dimension<D>,
+{
     u_ps.par_iter_mut().enumerate().for_each(|(i, u)| {
         if !region[i] {
             return;
@@ -311,6 +333,7 @@ pub fn keep_off_walls(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::engine::math::Vec2;
     use crate::engine::neighbours::{Domain, NeighbourSearch};
 
     /// A surface-region particle near a plate keeps the part of its shift along the plate and

@@ -32,20 +32,23 @@
 //! τ = 0.5 and 2 ρh²/η0 and falls off below 0.1 (the stabilisation too weak to hold the mode).
 //! With implicit viscosity in creeping flow τ ≪ δt and τ_δt = τ to within a few per cent.
 
-use crate::engine::math::{Mat2, Vec2};
+use crate::engine::dimension::{Dim, Dimension, Matrix, Vector};
 use crate::engine::neighbourhood::Hood;
 use rayon::prelude::*;
 
 /// The stabilisation's time scale and buffers.
 #[derive(Clone, Debug)]
-pub struct PressureStabilisation {
+pub struct PressureStabilisation<const D: usize = 2> {
     /// τ of the module docs (∞ for an inviscid fluid, when τ_δt = δt).
     time: f64,
     /// g: the pressure gradient over the fluid neighbours.
-    gradient: Vec<Vec2>,
+    gradient: Vec<Vector<D>>,
 }
 
-impl PressureStabilisation {
+impl<const D: usize> PressureStabilisation<D>
+where
+    Dim<D>: Dimension<D>,
+{
     /// τ = ρh²/η0 for smoothing length `h`.
     pub fn new(density: f64, viscosity: f64, h: f64) -> Self {
         let time = if viscosity > 0.0 {
@@ -86,7 +89,7 @@ impl PressureStabilisation {
     /// Adds `τ_δt (S p)_i / ρ` to each fluid particle's divergence (module docs).
     pub fn add(
         &mut self,
-        hood: Hood,
+        hood: Hood<D>,
         pressure: &[f64],
         density: f64,
         dt: f64,
@@ -94,7 +97,7 @@ impl PressureStabilisation {
     ) {
         let Hood { list, sums, .. } = hood;
         let n = pressure.len();
-        self.gradient.resize(n, Vec2::zeros());
+        self.gradient.resize(n, Vector::<D>::zeros());
         fluid_gradient(hood, pressure, &mut self.gradient);
         let g = &self.gradient;
         let uniform = self.time_at(dt) / density;
@@ -123,12 +126,15 @@ impl PressureStabilisation {
 /// The Bonet–Lok gradient of `p` over each particle's fluid neighbours only, with the
 /// correction of that subset: `B⁻¹ Σ_j (p_j − p_i) ∇W_ij δV`, `B = Σ_j r_ji ⊗ ∇W_ij δV`
 /// (zero where B is singular).
-pub fn fluid_gradient(hood: Hood, p: &[f64], out: &mut [Vec2]) {
+pub fn fluid_gradient<const D: usize>(hood: Hood<D>, p: &[f64], out: &mut [Vector<D>])
+where
+    Dim<D>: Dimension<D>,
+{
     let Hood { list, sums, .. } = hood;
     let n = p.len();
     out.par_iter_mut().enumerate().for_each(|(i, g)| {
-        let mut b = Mat2::zeros();
-        let mut sum = Vec2::zeros();
+        let mut b = Matrix::<D>::zeros();
+        let mut sum = Vector::<D>::zeros();
         for k in list.range(i) {
             let j = list.index[k] as usize;
             if j >= n {
@@ -138,9 +144,7 @@ pub fn fluid_gradient(hood: Hood, p: &[f64], out: &mut [Vec2]) {
             b -= grad_w * list.rij[k].transpose();
             sum += (p[j] - p[i]) * grad_w;
         }
-        *g = b
-            .try_inverse()
-            .map_or(Vec2::zeros(), |inverse| inverse * sum);
+        *g = Dim::<D>::try_inverse(&b).map_or(Vector::<D>::zeros(), |inverse| inverse * sum);
     });
 }
 
@@ -148,6 +152,7 @@ pub fn fluid_gradient(hood: Hood, p: &[f64], out: &mut [Vec2]) {
 mod tests {
     use super::*;
     use crate::engine::kernel::QuinticSpline;
+    use crate::engine::math::Vec2;
     use crate::engine::neighbours::{Domain, NeighbourList, NeighbourSearch};
     use crate::engine::operators::KernelSums;
 

@@ -32,6 +32,7 @@
 //! short; with NS rows taking the compressive part the two measures agree within 2.5 %
 //! (validation pages, *Capillarity*).
 
+use crate::engine::dimension::{Dim, Dimension};
 use crate::engine::kernel::QuinticSpline;
 use crate::engine::neighbourhood::Hood;
 use crate::engine::neighbours::NeighbourList;
@@ -77,19 +78,29 @@ impl VolumeRelaxation {
     }
 
     /// C_i of fluid particle i (self and mirrors included).
-    pub fn concentration(&self, list: &NeighbourList, sums: &KernelSums, i: usize) -> f64 {
+    pub fn concentration<const D: usize>(
+        &self,
+        list: &NeighbourList<D>,
+        sums: &KernelSums<D>,
+        i: usize,
+    ) -> f64
+    where
+        Dim<D>: Dimension<D>,
+    {
         self.self_weight + list.range(i).map(|k| sums.value[k]).sum::<f64>() * sums.dv
     }
 
     /// Adds `α (C_i/C_0 − 1)/δt²` to the right-hand side of each row as `support` reads it
     /// (its compressive part alone on a truncated support, nothing on a Dirichlet row).
-    pub fn add_source(
+    pub fn add_source<const D: usize>(
         &self,
-        hood: Hood,
+        hood: Hood<D>,
         support: impl Fn(usize) -> RowSupport + Sync,
         dt: f64,
         rhs: &mut [f64],
-    ) {
+    ) where
+        Dim<D>: Dimension<D>,
+    {
         let Hood { list, sums, .. } = hood;
         let scale = self.alpha / (dt * dt);
         rhs.par_iter_mut().enumerate().for_each(|(i, b)| {

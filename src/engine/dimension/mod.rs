@@ -37,6 +37,9 @@ pub trait Dimension<const D: usize>: Copy + Debug + Send + Sync + 'static {
         dv: f64,
         which: Second,
     );
+    /// s times the part of `v` along the surface whose unit normal is `normal`: s(m·v)m with
+    /// m the tangent in the plane, s(v − (v·n)n) in space.
+    fn tangential(s: f64, v: &SVector<f64, D>, normal: &SVector<f64, D>) -> SVector<f64, D>;
     /// The weights c_j of the weighted least-squares fit `a·x + B:xx` (no constant term)
     /// through `rows` (point about the fit's origin, weight), evaluated at `at`, appended to
     /// `c` (Σ_j c_j f_j is the fit's value there); points are divided by `scale` first. Left

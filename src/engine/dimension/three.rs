@@ -30,6 +30,9 @@ impl Dimension<3> for Dim<3> {
     ) {
         let _ = (grad, laplacian, factor, rij, h, dv, which);
     }
+    fn tangential(s: f64, v: &Vec3, normal: &Vec3) -> Vec3 {
+        s * (v - v.dot(normal) * normal)
+    }
     fn quadratic_weights(
         rows: impl Iterator<Item = (Vec3, f64)> + Clone,
         at: Vec3,

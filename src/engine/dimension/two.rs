@@ -30,6 +30,10 @@ impl Dimension<2> for Dim<2> {
     ) {
         crate::engine::second_order::second_order_row(grad, laplacian, factor, rij, h, dv, which);
     }
+    fn tangential(s: f64, v: &Vec2, normal: &Vec2) -> Vec2 {
+        let m = Vec2::new(-normal.y, normal.x);
+        s * m.dot(v) * m
+    }
     fn quadratic_weights(
         rows: impl Iterator<Item = (Vec2, f64)> + Clone,
         at: Vec2,

@@ -34,6 +34,7 @@
 //! Mirror particles of a plate count as neighbours (a wall is not a free surface), but their
 //! own normals are not smoothed into a fluid particle's.
 
+use crate::engine::dimension::Vector;
 use crate::engine::kernel::QuinticSpline;
 use crate::engine::math::Vec2;
 use crate::engine::neighbours::NeighbourList;
@@ -64,9 +65,10 @@ const CONE_COS: f64 = std::f64::consts::FRAC_1_SQRT_2;
 const WALL_CLEARANCE: f64 = 3.0;
 
 /// The free-surface sets and normals of one particle configuration, with buffers reused from
-/// step to step.
-#[derive(Clone, Debug, Default)]
-pub struct FreeSurface {
+/// step to step. The sets are written for D dimensions (the default 2); their detection is
+/// planar (a 3D set-up refuses free surfaces).
+#[derive(Clone, Debug)]
+pub struct FreeSurface<const D: usize = 2> {
     /// C_i of (37).
     pub concentration: Vec<f64>,
     /// ⟨∇·r⟩_i of (36).
@@ -81,17 +83,34 @@ pub struct FreeSurface {
     /// Membership of NS (a neighbour in FS, not itself in FS).
     pub near_surface: Vec<bool>,
     /// Unit outward normal n_i of (39) for FS and NS particles, zero elsewhere.
-    pub normal: Vec<Vec2>,
+    pub normal: Vec<Vector<D>>,
     /// |n_i| of (39) before normalisation, times h² (dimensionless): 0.34 on a flat
     /// surface, 0.24, 0.07 and 0.01 on the next rows in, and near 0 wherever the surface is
     /// on both sides (the middle of a thin jet).
     pub normal_strength: Vec<f64>,
-    raw_normal: Vec<Vec2>,
+    raw_normal: Vec<Vector<D>>,
     /// Scratch of the exposure test: which particles it adds to FS.
     exposed: Vec<bool>,
 }
 
-impl FreeSurface {
+impl<const D: usize> Default for FreeSurface<D> {
+    fn default() -> Self {
+        Self {
+            concentration: Vec::new(),
+            position_divergence: Vec::new(),
+            on_surface: Vec::new(),
+            margin: Vec::new(),
+            blend_width: 0.0,
+            near_surface: Vec::new(),
+            normal: Vec::new(),
+            normal_strength: Vec::new(),
+            raw_normal: Vec::new(),
+            exposed: Vec::new(),
+        }
+    }
+}
+
+impl<const D: usize> FreeSurface<D> {
     /// Row i's support for the density-invariant source: FS rows are Dirichlet, NS rows
     /// truncated, the rest full.
     pub fn row_support(&self, i: usize) -> crate::engine::volume::RowSupport {
@@ -162,7 +181,9 @@ impl FreeSurface {
     pub fn count(&self) -> usize {
         self.on_surface.iter().filter(|&&s| s).count()
     }
+}
 
+impl FreeSurface {
     /// Evaluates (36)–(39) for the fluid particles (the rows of `list`).
     pub fn detect(&mut self, list: &NeighbourList, sums: &KernelSums, kernel: &QuinticSpline) {
         let n = list.rows();

@@ -8,7 +8,7 @@ use super::{
     direct_step, direct_step_strang, log_conformation_step, log_conformation_step_strang,
     log_local_rate, log_unsplit_step, Fluid, Model,
 };
-use crate::engine::math::{Mat2, Sym2, Vec2};
+use crate::engine::dimension::{Dim, Dimension, Matrix, Sym, SymTensor, Vector};
 use crate::engine::neighbourhood::Hood;
 use crate::engine::operators::DivergenceForm;
 use rayon::prelude::*;
@@ -46,9 +46,9 @@ pub enum ConformationIntegrator {
 }
 
 /// One log-conformation update: model, A, Ψ = ln A, u_ps·∇Ψ, ∇u, δt, λ.
-type LogStep = fn(&Model, &Sym2, &Sym2, &Sym2, &Mat2, f64, f64) -> Sym2;
+type LogStep<S> = fn(&Model, &S, &S, &S, &<S as SymTensor>::Matrix, f64, f64) -> S;
 /// One direct update: model, A, u_ps·∇A, ∇u, δt, λ.
-type DirectStep = fn(&Model, &Sym2, &Sym2, &Mat2, f64, f64) -> Sym2;
+type DirectStep<S> = fn(&Model, &S, &S, &<S as SymTensor>::Matrix, f64, f64) -> S;
 
 /// How the conformation is integrated: its variable, order in time and ALE remap.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -60,16 +60,20 @@ pub struct ConformationChoice {
 
 /// The velocity fields the constitutive update reads.
 #[derive(Clone, Copy)]
-pub struct Flow<'a> {
+pub struct Flow<'a, const D: usize = 2> {
     /// ∇u^n as the constitutive update sees it.
-    pub grad_u: &'a [Mat2],
+    pub grad_u: &'a [Matrix<D>],
     /// The shift velocity u_ps, whose ALE transport remaps A, eq. (31).
-    pub u_ps: &'a [Vec2],
+    pub u_ps: &'a [Vector<D>],
 }
 
-/// The constitutive stage of a viscoelastic fluid and its buffers.
+/// The constitutive stage of a viscoelastic fluid and its buffers, in D dimensions (the
+/// default 2).
 #[derive(Clone, Debug)]
-pub struct ConformationStage {
+pub struct ConformationStage<const D: usize = 2>
+where
+    Dim<D>: Dimension<D>,
+{
     pub scheme: ConformationScheme,
     integrator: ConformationIntegrator,
     remap: Remap,
@@ -80,19 +84,23 @@ pub struct ConformationStage {
     /// The form of (20) in which ∇·Φ is formed (None: not formed, the integrator sums the
     /// polymer stress itself).
     form: Option<DivergenceForm>,
-    log_conformation: Vec<Sym2>,
-    advection: Vec<Sym2>,
-    tensor_ext: Vec<Sym2>,
+    log_conformation: Vec<Sym<D>>,
+    advection: Vec<Sym<D>>,
+    tensor_ext: Vec<Sym<D>>,
     /// [`ConformationIntegrator::Unsplit`]: the local part of the rate.
-    local: Vec<Sym2>,
+    local: Vec<Sym<D>>,
     /// [`Remap::SecondOrder`]: the rate L is applied to with the ghosts', and L of it.
-    rate_ext: Vec<Sym2>,
-    second: Vec<Sym2>,
-    phi: Vec<Sym2>,
-    div_phi: Vec<Vec2>,
+    rate_ext: Vec<Sym<D>>,
+    second: Vec<Sym<D>>,
+    phi: Vec<Sym<D>>,
+    div_phi: Vec<Vector<D>>,
 }
 
-impl ConformationStage {
+impl<const D: usize> ConformationStage<D>
+where
+    Dim<D>: Dimension<D>,
+    Sym<D>: SymTensor<Matrix = Matrix<D>>,
+{
     /// The stage for `fluid` with EVSS weight α_V; `form` of the divergence (20), None when
     /// the time integrator takes the polymer stress in its own momentum sum.
     pub fn new(
@@ -159,9 +167,9 @@ impl ConformationStage {
         &mut self,
         fluid: &Fluid,
         dt: f64,
-        hood: Hood,
-        flow: Flow,
-        conformation: &mut [Sym2],
+        hood: Hood<D>,
+        flow: Flow<D>,
+        conformation: &mut [Sym<D>],
     ) {
         self.advance(fluid, dt, hood, flow, conformation);
         let grad_u = flow.grad_u;
@@ -175,19 +183,19 @@ impl ConformationStage {
         &mut self,
         fluid: &Fluid,
         dt: f64,
-        hood: Hood,
-        flow: Flow,
-        conformation: &mut [Sym2],
+        hood: Hood<D>,
+        flow: Flow<D>,
+        conformation: &mut [Sym<D>],
     ) {
         let Flow { grad_u, u_ps } = flow;
         let ghosts = hood.ghosts;
         let n = conformation.len();
         let lambda = fluid.relaxation_time;
         let model = fluid.model;
-        self.advection.resize(n, Sym2::ZERO);
+        self.advection.resize(n, Sym::<D>::ZERO);
         match self.scheme {
             ConformationScheme::Log => {
-                self.log_conformation.resize(n, Sym2::ZERO);
+                self.log_conformation.resize(n, Sym::<D>::ZERO);
                 self.log_conformation
                     .par_iter_mut()
                     .zip(conformation.par_iter())
@@ -195,7 +203,7 @@ impl ConformationStage {
                 // The transport reads the even copy (see [`Self::remap_rate`]).
                 ghosts.extend_tensor(&self.log_conformation, &mut self.tensor_ext);
                 if self.integrator == ConformationIntegrator::Unsplit {
-                    self.local.resize(n, Sym2::ZERO);
+                    self.local.resize(n, Sym::<D>::ZERO);
                     self.local
                         .par_iter_mut()
                         .zip(conformation.par_iter().zip(grad_u.par_iter()))
@@ -203,7 +211,7 @@ impl ConformationStage {
                 }
                 self.remap_rate(hood, u_ps, dt);
                 let (psi, adv, local) = (&self.log_conformation, &self.advection, &self.local);
-                let step: LogStep = match self.integrator {
+                let step: LogStep<Sym<D>> = match self.integrator {
                     ConformationIntegrator::Euler => log_conformation_step,
                     ConformationIntegrator::Strang => |m, a, _psi, adv, g, dt, lambda| {
                         log_conformation_step_strang(m, a, adv, g, dt, lambda)
@@ -223,7 +231,7 @@ impl ConformationStage {
                 ghosts.extend_tensor(conformation, &mut self.tensor_ext);
                 self.remap_rate(hood, u_ps, dt);
                 let adv = &self.advection;
-                let step: DirectStep = match self.integrator {
+                let step: DirectStep<Sym<D>> = match self.integrator {
                     // Refused at set-up (the unsplit step is formed in Ψ).
                     ConformationIntegrator::Euler | ConformationIntegrator::Unsplit => direct_step,
                     ConformationIntegrator::Strang => direct_step_strang,
@@ -245,7 +253,7 @@ impl ConformationStage {
     /// wherever tr log A rises from ≈ 0 at the wall), which the upwind transport would carry
     /// into the fluid: in the lid-driven cavity at Wi = 1 the extrapolated ghosts took the
     /// fluid's det A down to 0.88 by t = 4.
-    fn remap_rate(&mut self, hood: Hood, u_ps: &[Vec2], dt: f64) {
+    fn remap_rate(&mut self, hood: Hood<D>, u_ps: &[Vector<D>], dt: f64) {
         let Hood { list, sums, ghosts } = hood;
         let ext = &self.tensor_ext;
         let rate = &mut self.advection;
@@ -266,7 +274,7 @@ impl ConformationStage {
                     *w += *l;
                 }
                 ghosts.extend_tensor(whole, &mut self.rate_ext);
-                self.second.resize(rate.len(), Sym2::ZERO);
+                self.second.resize(rate.len(), Sym::<D>::ZERO);
                 sums.advective_tensor(list, &self.rate_ext, u_ps, &mut self.second);
                 rate.par_iter_mut()
                     .zip(self.second.par_iter())
@@ -284,41 +292,41 @@ impl ConformationStage {
     fn evss_divergence(
         &mut self,
         fluid: &Fluid,
-        hood: Hood,
-        grad_u: &[Mat2],
-        conformation: &[Sym2],
+        hood: Hood<D>,
+        grad_u: &[Matrix<D>],
+        conformation: &[Sym<D>],
         form: DivergenceForm,
     ) {
         let Hood { list, sums, ghosts } = hood;
         let n = conformation.len();
         let evss = self.evss;
-        self.phi.resize(n, Sym2::ZERO);
+        self.phi.resize(n, Sym::<D>::ZERO);
         self.phi
             .par_iter_mut()
             .zip(conformation.par_iter())
             .enumerate()
             .for_each(|(i, (phi, a))| {
-                let strain_rate = Sym2::sym_part(&grad_u[i]) * 2.0;
+                let strain_rate = Sym::<D>::sym_part(&grad_u[i]) * 2.0;
                 *phi = fluid.polymer_stress(a) - strain_rate * evss;
             });
         ghosts.continue_tensor(&self.phi, &mut self.tensor_ext);
-        self.div_phi.resize(n, Vec2::zeros());
+        self.div_phi.resize(n, Vector::<D>::zeros());
         sums.divergence_tensor(list, &self.tensor_ext, form, &mut self.div_phi);
     }
 
     /// ∇·Φ of the last update, for terms that add to it (the hourglass control).
-    pub fn stress_divergence_mut(&mut self) -> &mut [Vec2] {
+    pub fn stress_divergence_mut(&mut self) -> &mut [Vector<D>] {
         &mut self.div_phi
     }
 
     /// ∇·Φ of the last update, for the predictor (None: not formed).
-    pub fn stress_divergence(&self) -> Option<&[Vec2]> {
+    pub fn stress_divergence(&self) -> Option<&[Vector<D>]> {
         self.form.map(|_| &self.div_phi[..])
     }
 
     /// The invariant the integration does not keep by construction: positive definiteness
     /// under direct integration (the log-conformation keeps it exactly).
-    pub fn check(&self, conformation: &[Sym2]) -> Result<(), String> {
+    pub fn check(&self, conformation: &[Sym<D>]) -> Result<(), String> {
         if self.scheme == ConformationScheme::Direct
             && conformation
                 .par_iter()
@@ -342,6 +350,7 @@ impl ConformationStage {
 mod tests {
     use super::*;
     use crate::engine::boundary::Ghosts;
+    use crate::engine::math::{Mat2, Sym2, Vec2};
     use crate::engine::neighbours::NeighbourList;
     use crate::engine::operators::KernelSums;
     use crate::engine::rheology::{FeneCr, ViscosityLaw};
@@ -360,7 +369,7 @@ mod tests {
             law: ViscosityLaw::Constant,
         };
         let stage = |model| {
-            ConformationStage::new(
+            ConformationStage::<2>::new(
                 ConformationChoice {
                     scheme: ConformationScheme::Log,
                     integrator: ConformationIntegrator::Euler,

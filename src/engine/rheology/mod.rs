@@ -11,8 +11,8 @@ pub mod log_conformation;
 pub mod models;
 pub mod remap;
 
+use crate::engine::dimension::SymTensor;
 use crate::engine::kinematics::GradientChoice;
-use crate::engine::math::Sym2;
 use crate::engine::settings::{in_range, Invalid};
 pub use conformation::{
     ConformationChoice, ConformationIntegrator, ConformationScheme, ConformationStage, Flow,
@@ -163,9 +163,9 @@ impl Fluid {
     }
 
     /// Polymer stress τ_p = (η_p/λ) f_S(A), eq. (9).
-    pub fn polymer_stress(&self, a: &Sym2) -> Sym2 {
+    pub fn polymer_stress<S: SymTensor>(&self, a: &S) -> S {
         if !self.model.is_viscoelastic() {
-            return Sym2::ZERO;
+            return S::ZERO;
         }
         self.model.strain(a) * (self.polymer_viscosity() / self.relaxation_time)
     }
@@ -175,6 +175,7 @@ impl Fluid {
 mod tests {
     use super::*;
     use crate::engine::math::Mat2;
+    use crate::engine::math::Sym2;
 
     /// The quasi-analytic source step is the exact relaxation of a uniform A.
     #[test]

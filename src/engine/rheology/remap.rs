@@ -28,7 +28,7 @@
 //! at t = 2.3 (Wi = 16) and 1.8 (Wi = 32) against 13.1 and 9.3 with the floor. [`Remap::Upwind`]
 //! keeps the range limiter (its one-sided increment damps what the clipping leaves).
 
-use crate::engine::math::Sym2;
+use crate::engine::dimension::SymTensor;
 use crate::engine::neighbours::NeighbourList;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -82,9 +82,22 @@ pub enum Remap {
 /// (they can move tr Ψ, hence det A, by no more than that).
 const ROUND_OFF: f64 = 1e-12;
 
-/// The components a limited remap keeps in range: Ψ_xx, Ψ_xy, Ψ_yy and tr Ψ (= ln det A).
-fn components(t: &Sym2) -> [f64; 4] {
-    [t.xx, t.xy, t.yy, t.xx + t.yy]
+/// The most components a limited remap keeps in range (in space: six and the trace).
+const MAX_COMPONENTS: usize = 7;
+
+/// The components a limited remap keeps in range: Ψ_ab (a ≤ b, row by row: Ψ_xx, Ψ_xy, Ψ_yy
+/// in the plane) and tr Ψ (= ln det A), in the first `count` of the array.
+fn components<S: SymTensor>(t: &S) -> ([f64; MAX_COMPONENTS], usize) {
+    let mut out = [0.0; MAX_COMPONENTS];
+    let mut count = 0;
+    for a in 0..S::DIM {
+        for b in a..S::DIM {
+            out[count] = t.entry(a, b);
+            count += 1;
+        }
+    }
+    out[count] = t.trace();
+    (out, count + 1)
 }
 
 /// The largest φ ∈ [0, 1] with `value + φ·increment` within `[low, high]` (`low ≤ value ≤
@@ -102,17 +115,19 @@ fn limit(value: f64, increment: f64, low: f64, high: f64) -> f64 {
 /// Scales each particle's remap rate `rate[i]` (its increment is `dt·rate[i]`) so that its
 /// tr Ψ stays at or above the smallest tr Ψ of `ext` (the tensors of particles and ghosts)
 /// over its neighbours and itself ([`Remap::Limited`]).
-pub fn keep_trace_floor(list: &NeighbourList, ext: &[Sym2], dt: f64, rate: &mut [Sym2]) {
+pub fn keep_trace_floor<S: SymTensor, const D: usize>(
+    list: &NeighbourList<D>,
+    ext: &[S],
+    dt: f64,
+    rate: &mut [S],
+) {
     rate.par_iter_mut().enumerate().for_each(|(i, r)| {
-        let own = ext[i].xx + ext[i].yy;
+        let own = ext[i].trace();
         let low = list
             .range(i)
-            .map(|k| {
-                let t = &ext[list.index[k] as usize];
-                t.xx + t.yy
-            })
+            .map(|k| ext[list.index[k] as usize].trace())
             .fold(own, f64::min);
-        let step = (r.xx + r.yy) * dt;
+        let step = r.trace() * dt;
         let negligible = ROUND_OFF * (1.0 + own.abs());
         if step < -negligible {
             let phi = limit(own, step, low, f64::INFINITY);
@@ -126,23 +141,31 @@ pub fn keep_trace_floor(list: &NeighbourList, ext: &[Sym2], dt: f64, rate: &mut 
 /// Scales each particle's remap rate `rate[i]` (its increment is `dt·rate[i]`) so that the
 /// remapped tensor stays within the range of `ext` (the tensors of particles and ghosts)
 /// over its neighbours and itself ([`Remap::Upwind`]).
-pub fn limit_increments(list: &NeighbourList, ext: &[Sym2], dt: f64, rate: &mut [Sym2]) {
+pub fn limit_increments<S: SymTensor, const D: usize>(
+    list: &NeighbourList<D>,
+    ext: &[S],
+    dt: f64,
+    rate: &mut [S],
+) {
     rate.par_iter_mut().enumerate().for_each(|(i, r)| {
-        let own = components(&ext[i]);
-        let (mut low, mut high) = (own, own);
+        let (own, count) = components(&ext[i]);
+        let own = &own[..count];
+        let (mut low, mut high) = ([0.0; MAX_COMPONENTS], [0.0; MAX_COMPONENTS]);
+        low[..count].copy_from_slice(own);
+        high[..count].copy_from_slice(own);
         for k in list.range(i) {
-            let c = components(&ext[list.index[k] as usize]);
-            for q in 0..4 {
+            let (c, _) = components(&ext[list.index[k] as usize]);
+            for q in 0..count {
                 low[q] = low[q].min(c[q]);
                 high[q] = high[q].max(c[q]);
             }
         }
-        let step = components(&(*r * dt));
+        let (step, _) = components(&(*r * dt));
         // A component whose increment is at round-off level (e.g. Ψ_xy on a channel's
         // centre-line, where the range is round-off too) does not limit the others: the
         // ratio of two round-off numbers would switch them on and off at random.
         let negligible = ROUND_OFF * (1.0 + own.iter().fold(0.0_f64, |m, v| m.max(v.abs())));
-        let phi = (0..4)
+        let phi = (0..count)
             .filter(|&q| step[q].abs() > negligible)
             .map(|q| limit(own[q], step[q], low[q], high[q]))
             .fold(1.0, f64::min);
@@ -155,6 +178,7 @@ pub fn limit_increments(list: &NeighbourList, ext: &[Sym2], dt: f64, rate: &mut 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::engine::math::Sym2;
 
     fn list(rows: &[&[u32]]) -> NeighbourList {
         let mut offsets = vec![0];

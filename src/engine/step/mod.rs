@@ -659,7 +659,7 @@ impl Simulation {
             .map_err(|e| Breakdown {
                 reason: format!("implicit viscous solve failed: {e}"),
             })?;
-        Ok(reports.map_or(0, |[x, y]| x.iterations + y.iterations))
+        Ok(reports.map_or(0, |r| r.iter().map(|r| r.iterations).sum()))
     }
 
     /// Steps 5–6 by the chosen integrator: u^{n+1} over u*, p^{n+1}; the PPE's report.

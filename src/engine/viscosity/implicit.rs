@@ -12,8 +12,8 @@
 //! limit ρh²/η0 of (28): see [`super::Viscosity::dt_limit`].
 
 use crate::engine::boundary::Field;
+use crate::engine::dimension::{Dim, Dimension, Vector};
 use crate::engine::laplacian_matrix::{LaplacianMatrix, Operator};
-use crate::engine::math::Vec2;
 use crate::engine::neighbourhood::Hood;
 use rheosph_solver::{NullSpace, Preconditioner, SolveError, SolveReport, SolverOptions, Strategy};
 
@@ -34,19 +34,34 @@ pub struct Accuracy {
 }
 
 /// Reusable matrix and component buffers of the implicit viscous solve.
-#[derive(Default)]
-pub struct ImplicitViscosity {
+pub struct ImplicitViscosity<const D: usize = 2> {
     matrix: LaplacianMatrix,
     rhs: Vec<f64>,
     component: Vec<f64>,
     /// u* − u^n of the previous step, per particle (empty: none, e.g. after a reorder).
-    increment: Vec<Vec2>,
+    increment: Vec<Vector<D>>,
     /// Moving walls: the mirrors' offsets (extended) and their Laplacian.
-    offsets: Vec<Vec2>,
-    wall_term: Vec<Vec2>,
+    offsets: Vec<Vector<D>>,
+    wall_term: Vec<Vector<D>>,
 }
 
-impl ImplicitViscosity {
+impl<const D: usize> Default for ImplicitViscosity<D> {
+    fn default() -> Self {
+        Self {
+            matrix: LaplacianMatrix::default(),
+            rhs: Vec::new(),
+            component: Vec::new(),
+            increment: Vec::new(),
+            offsets: Vec::new(),
+            wall_term: Vec::new(),
+        }
+    }
+}
+
+impl<const D: usize> ImplicitViscosity<D>
+where
+    Dim<D>: Dimension<D>,
+{
     /// Heap bytes held.
     pub fn heap_bytes(&self) -> usize {
         self.matrix.heap_bytes()
@@ -64,9 +79,9 @@ impl ImplicitViscosity {
     /// matrix holds the rest, so the step is implicit in the continuation as in the mirror.
     fn add_wall_term(
         &mut self,
-        hood: Hood,
+        hood: Hood<D>,
         nu_dt: f64,
-        rhs: &mut [Vec2],
+        rhs: &mut [Vector<D>],
         prescribed: &[bool],
         factor: &[f64],
     ) {
@@ -76,7 +91,7 @@ impl ImplicitViscosity {
         }
         let n = rhs.len();
         ghosts.extend_offsets(n, &mut self.offsets);
-        self.wall_term.resize(n, Vec2::zeros());
+        self.wall_term.resize(n, Vector::<D>::zeros());
         if factor.is_empty() {
             sums.laplacian_vector(list, &self.offsets, &mut self.wall_term);
         } else {
@@ -98,16 +113,16 @@ impl ImplicitViscosity {
 
     /// Solves `(I − δt ν φ L) u* = rhs` for u* given the explicit part `rhs` (`velocity`,
     /// overwritten with u*). Rows flagged in `prescribed` (empty: none) keep their value
-    /// (inflow particles). Returns the reports of the x and y solves.
+    /// (inflow particles). Returns the reports of the solves, one per component.
     pub fn solve(
         &mut self,
-        hood: Hood,
+        hood: Hood<D>,
         diffusion: Diffusion,
-        warm_start: &[Vec2],
-        velocity: &mut [Vec2],
+        warm_start: &[Vector<D>],
+        velocity: &mut [Vector<D>],
         prescribed: &[bool],
         accuracy: Accuracy,
-    ) -> Result<[SolveReport; 2], SolveError> {
+    ) -> Result<[SolveReport; D], SolveError> {
         let Diffusion { nu_dt, factor } = diffusion;
         let Accuracy {
             tolerance,
@@ -130,7 +145,7 @@ impl ImplicitViscosity {
             matrix_unchanged: false,
             preconditioner,
         };
-        let mut reports = [None, None];
+        let mut reports = [None; D];
         for (axis, report) in reports.iter_mut().enumerate() {
             // Both components share the matrix (and an AMG hierarchy or LU factors).
             let options = SolverOptions {
@@ -159,9 +174,9 @@ impl ImplicitViscosity {
         self.increment.clear();
         let increment = velocity.iter().zip(warm_start).map(|(s, u)| *s - *u);
         self.increment.extend(increment);
-        match reports {
-            [Some(x), Some(y)] => Ok([x, y]),
-            _ => Err(SolveError::Lu("viscous solve produced no report".into())),
-        }
+        let Some(&first) = reports.iter().flatten().next() else {
+            return Err(SolveError::Lu("viscous solve produced no report".into()));
+        };
+        Ok(reports.map(|r| r.unwrap_or(first)))
     }
 }

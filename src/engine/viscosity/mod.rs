@@ -29,8 +29,8 @@
 pub mod implicit;
 pub mod shear_dependent;
 
+use crate::engine::dimension::{Dim, Dimension, Vector};
 use crate::engine::free_surface::tension::capillary_limit;
-use crate::engine::math::Vec2;
 use crate::engine::neighbourhood::Hood;
 use crate::engine::neighbours::NeighbourList;
 use crate::engine::operators::KernelSums;
@@ -189,7 +189,7 @@ impl Viscosity {
 
     /// The stage that integrates the term; its implicit solves stop at the relative residual
     /// `tolerance`.
-    pub fn stage(self, tolerance: f64) -> ViscousStage {
+    pub fn stage<const D: usize>(self, tolerance: f64) -> ViscousStage<D> {
         ViscousStage {
             theta: self.theta(),
             tolerance,
@@ -201,26 +201,29 @@ impl Viscosity {
 
 /// The viscous part of step 4 with its buffers: the θ-scheme
 /// u* = … + δt ν [(1 − θ)∇²u^n + θ∇²u*].
-pub struct ViscousStage {
+pub struct ViscousStage<const D: usize = 2> {
     /// The weight of the new level ([`Viscosity::theta`]).
     theta: f64,
     /// Relative residual at which the implicit solves stop (`scheme.viscous_tolerance`).
     tolerance: f64,
     /// ∇²u^n of the explicit part (θ < 1).
-    laplacian: Vec<Vec2>,
+    laplacian: Vec<Vector<D>>,
     /// The solve of the implicit part (θ > 0).
-    implicit: Option<Box<ImplicitViscosity>>,
+    implicit: Option<Box<ImplicitViscosity<D>>>,
 }
 
 /// The rows held at a prescribed velocity (identity rows: an inflow buffer; empty: none)
 /// and that velocity.
 #[derive(Clone, Copy)]
-pub struct Prescribed<'a> {
+pub struct Prescribed<'a, const D: usize = 2> {
     pub rows: &'a [bool],
-    pub value: Vec2,
+    pub value: Vector<D>,
 }
 
-impl ViscousStage {
+impl<const D: usize> ViscousStage<D>
+where
+    Dim<D>: Dimension<D>,
+{
     /// Heap bytes held.
     pub fn heap_bytes(&self) -> usize {
         crate::engine::vec_bytes(&self.laplacian)
@@ -239,16 +242,16 @@ impl ViscousStage {
     /// weight 1 − θ; None when the term is taken wholly implicitly.
     pub fn explicit_laplacian(
         &mut self,
-        list: &NeighbourList,
-        sums: &KernelSums,
-        velocity_ext: &[Vec2],
+        list: &NeighbourList<D>,
+        sums: &KernelSums<D>,
+        velocity_ext: &[Vector<D>],
         factor: &[f64],
-    ) -> Option<(&[Vec2], f64)> {
+    ) -> Option<(&[Vector<D>], f64)> {
         if self.theta >= 1.0 {
             return None;
         }
         let laplacian = &mut self.laplacian;
-        laplacian.resize(list.rows(), Vec2::zeros());
+        laplacian.resize(list.rows(), Vector::<D>::zeros());
         if factor.is_empty() {
             sums.laplacian_vector(list, velocity_ext, laplacian);
         } else {
@@ -263,13 +266,13 @@ impl ViscousStage {
     /// the solve takes θ. Nothing for the explicit term.
     pub fn solve(
         &mut self,
-        hood: Hood,
+        hood: Hood<D>,
         diffusion: Diffusion,
-        warm_start: &[Vec2],
-        velocity: &mut [Vec2],
-        prescribed: Prescribed,
+        warm_start: &[Vector<D>],
+        velocity: &mut [Vector<D>],
+        prescribed: Prescribed<D>,
         preconditioner: rheosph_solver::Preconditioner,
-    ) -> Result<Option<[SolveReport; 2]>, SolveError> {
+    ) -> Result<Option<[SolveReport; D]>, SolveError> {
         let (theta, tolerance) = (self.theta, self.tolerance);
         let Prescribed { rows, value } = prescribed;
         let Some(m) = self.implicit.as_mut() else {

@@ -7,7 +7,7 @@
 //! keeps the implicit solve linear; at steady state the lag vanishes.
 
 use crate::engine::boundary::Ghosts;
-use crate::engine::math::Mat2;
+use crate::engine::dimension::{Dim, Dimension, Matrix};
 use crate::engine::rheology::ViscosityLaw;
 use rayon::prelude::*;
 
@@ -21,7 +21,7 @@ pub struct ShearDependentViscosity {
 }
 
 /// γ̇ = √(2 D:D) of a velocity gradient, D = (∇u + ∇uᵀ)/2.
-pub fn shear_rate(grad_u: &Mat2) -> f64 {
+pub fn shear_rate<const D: usize>(grad_u: &Matrix<D>) -> f64 {
     let d = (grad_u + grad_u.transpose()) * 0.5;
     (2.0 * d.component_mul(&d).sum()).sqrt()
 }
@@ -42,7 +42,10 @@ impl ShearDependentViscosity {
     }
 
     /// φ from ∇u^n of the fluid particles.
-    pub fn update(&mut self, grad_u: &[Mat2], ghosts: &Ghosts) {
+    pub fn update<const D: usize>(&mut self, grad_u: &[Matrix<D>], ghosts: &Ghosts<D>)
+    where
+        Dim<D>: Dimension<D>,
+    {
         let (law, eta0) = (self.law, self.eta0);
         self.fluid.resize(grad_u.len(), 1.0);
         self.fluid
@@ -66,6 +69,7 @@ impl ShearDependentViscosity {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::engine::math::Mat2;
 
     /// Simple shear u = (γ̇ y, 0) has √(2 D:D) = γ̇; planar extension (ε, −ε) has 2ε.
     #[test]
