@@ -242,3 +242,46 @@ fn every_study_kind_collects_missing_members_as_lost_rows() {
         );
     }
 }
+
+/// A member whose run stops on an error, in a study run here: the others finish, the table
+/// holds a `failed` row for it, the study ends with `Incomplete`; rerun with reuse, only the
+/// failed member runs again.
+#[test]
+fn a_failed_member_of_a_local_study_is_a_row_and_is_rerun_alone() {
+    let out = tempfile::tempdir().unwrap();
+    let reuse = Base {
+        reuse: true,
+        ..base(&["scene.resolution=12", "run.end_time=0.2"])
+    };
+    let study = |b: &Base| {
+        let one = study::product(&[]);
+        let png = FigureFormat::Png;
+        study::stability::run(b, &[1.0, 2.0, 4.0], &one, 0.1, out.path(), png, 2, true)
+    };
+    // The run cannot write its series.csv: a directory stands in its place.
+    let blocked = out.path().join("runs/Wi_2/series.csv");
+    std::fs::create_dir_all(&blocked).unwrap();
+    let e = study(&reuse).expect_err("a member failed");
+    assert!(e.is::<study::Incomplete>(), "{e}");
+    assert!(e.to_string().contains("1 of 3 members"), "{e}");
+    assert!(e.to_string().contains("--reuse"), "{e}");
+    let csv = std::fs::read_to_string(out.path().join("stability.csv")).unwrap();
+    let failed: Vec<&str> = csv.lines().filter(|l| l.contains(",failed")).collect();
+    assert_eq!(failed.len(), 1, "{csv}");
+    assert_eq!(csv.lines().count(), 4, "{csv}");
+    assert!(out.path().join("runs/Wi_2/error.txt").exists());
+    let written = |wi: &str| {
+        let path = out.path().join(format!("runs/{wi}/summary.json"));
+        std::fs::metadata(path).unwrap().modified().unwrap()
+    };
+    let before = [written("Wi_1"), written("Wi_4")];
+    std::fs::remove_dir(&blocked).unwrap();
+    let rows = study(&reuse).expect("the rerun completes the study");
+    assert_eq!(rows.len(), 3);
+    assert_eq!(
+        before,
+        [written("Wi_1"), written("Wi_4")],
+        "finished members rerun"
+    );
+    assert!(!out.path().join("runs/Wi_2/error.txt").exists());
+}

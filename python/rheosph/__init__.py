@@ -407,7 +407,9 @@ def study(
     as a study run here. A member that raises or is lost is a ``lost`` or ``failed`` row of
     the table, and is reported in :class:`StudyIncomplete` (raised once the table is
     written); calling again completes only what is missing. Without an
-    executor the study runs in this process (``jobs=N`` runs N members at a time)."""
+    executor the study runs in this process (``jobs=N`` runs N members at a time); a member
+    whose run fails is a ``failed`` row, the others go on, and :class:`StudyIncomplete` is
+    raised once the table is written (``reuse=True`` then runs only the failed ones)."""
     argv = ["study", kind, str(case)]
     for o in _overrides(overrides):
         argv += ["--set", o]
@@ -423,7 +425,7 @@ def study(
         else:
             argv += [flag, str(value)]
     if executor is None:
-        _cli(argv + ["--out", str(out)])
+        _run_here(argv, Path(out))
     else:
         _run_elsewhere(argv, Path(out), executor)
     table = _TABLES.get(kind)
@@ -438,6 +440,21 @@ _TABLES = {
     "cylinder": "cylinder.csv",
 }
 _EXIT_INCOMPLETE = 4
+
+
+def _run_here(argv: list[str], out: Path) -> None:
+    """Runs the study in this process; a member that failed raises :class:`StudyIncomplete`
+    once the table is written (its error is in its run directory's ``error.txt``)."""
+    here = argv + ["--out", str(out)]
+    code = _native.cli(["rheosph", "--quiet", *here])
+    if code == _EXIT_INCOMPLETE:
+        failed = {
+            str(e.parent.relative_to(out)): e.read_text().strip()
+            for e in sorted(out.glob("runs/*/error.txt"))
+        }
+        raise StudyIncomplete(str(out), failed, out / _TABLES[argv[1]])
+    if code not in (0, 3):
+        raise RuntimeError(f"rheosph {' '.join(here)} failed (exit code {code}); see stderr")
 
 
 def _run_elsewhere(argv: list[str], out: Path, executor: Any) -> None:

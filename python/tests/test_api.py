@@ -210,6 +210,26 @@ class StudyExecutorTest(unittest.TestCase):
                 )
             self.assert_same_table(here, there)
 
+    def test_a_failed_member_of_a_study_run_here_is_a_row_and_reuse_reruns_it_alone(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            out = Path(tmp) / "s"
+            # Its run cannot write series.csv: a directory stands in its place.
+            blocked = out / "runs" / "Wi_2" / "series.csv"
+            blocked.mkdir(parents=True)
+            with self.assertRaises(rheosph.StudyIncomplete) as failed:
+                rheosph.study("stability", POISEUILLE, out, jobs=2, **self.ARGS)
+            self.assertEqual(sorted(failed.exception.failed), ["runs/Wi_2"])
+            with open(failed.exception.table, newline="") as f:
+                rows = {r["wi"]: r for r in csv.DictReader(f)}
+            self.assertEqual(rows["2"]["outcome"], "failed")
+            self.assertIn(rows["0.5"]["outcome"], ("stable", "inaccurate"))
+            first = out / "runs" / "Wi_0.5" / "summary.json"
+            stamp = first.stat().st_mtime_ns
+            blocked.rmdir()
+            table = rheosph.study("stability", POISEUILLE, out, reuse=True, **self.ARGS)
+            self.assertEqual(first.stat().st_mtime_ns, stamp, "a finished member was rerun")
+            self.assertIn(table["outcome"][1], ("stable", "inaccurate"))
+
     def test_lost_and_failed_members_are_rows_and_a_rerun_completes_only_them(self):
         args = dict(self.ARGS, wi=[0.5, 1, 2])
         with tempfile.TemporaryDirectory() as tmp:

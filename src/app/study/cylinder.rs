@@ -161,7 +161,7 @@ pub fn run(
         &out.join("cylinder.csv"),
         table::write_rows(&rows).as_bytes(),
     )?;
-    super::Incomplete::check(&missing, members, out)?;
+    super::Incomplete::check(&missing, members, out, base.executor)?;
     Ok(rows)
 }
 

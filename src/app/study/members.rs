@@ -6,7 +6,7 @@
 //! member run by hand, by a scheduler or by `--jobs` counts alike. A member not finished is
 //! a `lost` or `failed` row of the table, and the command ends with [`Incomplete`].
 
-use super::{member_dir, read_finished, Members, Missing, Variant};
+use super::{member_dir, read_finished, Executor, Members, Missing, Variant};
 use crate::app::io::write_atomic;
 use crate::app::run::{CASE_FILE, ERROR_FILE};
 use crate::setup::case::Case;
@@ -124,6 +124,7 @@ pub fn collect(variants: Vec<Variant>, cases: Vec<Case>, out: &Path) -> Result<M
     let mut members = Members {
         finished: Vec::new(),
         missing: Vec::new(),
+        executor: Executor::Collect,
     };
     for (index, (variant, case)) in variants.into_iter().zip(cases).enumerate() {
         let dir = member_dir(out, &variant);
@@ -146,8 +147,8 @@ pub fn collect(variants: Vec<Variant>, cases: Vec<Case>, out: &Path) -> Result<M
     Ok(members)
 }
 
-/// `--collect` found members not finished: the study's table is written (a `lost` or `failed`
-/// row each), and the command exits with [`EXIT_INCOMPLETE`](crate::app::cli::EXIT_INCOMPLETE).
+/// Members of a study did not finish: the study's table is written (a `lost` or `failed` row
+/// each), and the command exits with [`EXIT_INCOMPLETE`](crate::app::cli::EXIT_INCOMPLETE).
 #[derive(Debug)]
 pub struct Incomplete {
     /// Each missing member: its run directory and outcome (with the error, if it failed).
@@ -156,11 +157,18 @@ pub struct Incomplete {
     pub indices: Vec<usize>,
     pub members: usize,
     pub dir: String,
+    /// Where the members ran: the advice on running only these differs.
+    pub executor: Executor,
 }
 
 impl Incomplete {
     /// Ok if no member is missing; else the error naming them.
-    pub fn check(missing: &[Missing], members: usize, out: &Path) -> Result<()> {
+    pub fn check(
+        missing: &[Missing],
+        members: usize,
+        out: &Path,
+        executor: Executor,
+    ) -> Result<()> {
         if missing.is_empty() {
             return Ok(());
         }
@@ -175,6 +183,7 @@ impl Incomplete {
             indices: missing.iter().map(|m| m.index).collect(),
             members,
             dir: out.display().to_string(),
+            executor,
         }
         .into())
     }
@@ -182,6 +191,15 @@ impl Incomplete {
 
 impl std::fmt::Display for Incomplete {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let (n, m, list) = (self.missing.len(), self.members, self.missing.join("\n  "));
+        if self.executor == Executor::Here {
+            return write!(
+                f,
+                "{n} of {m} members did not finish; the table has a `failed` row for each (the \
+                 error is also in its run directory's error.txt):\n  {list}\n\
+                 To run only these, repeat this command with --reuse"
+            );
+        }
         let indices: Vec<String> = self.indices.iter().map(usize::to_string).collect();
         write!(
             f,
@@ -191,9 +209,6 @@ impl std::fmt::Display for Incomplete {
              To resume, run only these, then repeat this command:\n  \
              {d}/run-members.sh\n  \
              cd {d} && sbatch --array={indices} job-array.slurm",
-            n = self.missing.len(),
-            m = self.members,
-            list = self.missing.join("\n  "),
             d = self.dir,
             indices = indices.join(","),
         )

@@ -70,11 +70,13 @@ impl Missing {
     }
 }
 
-/// The members of a study: the finished runs in order and, from `--collect`, the members
-/// without one (none when the study ran here).
+/// The members of a study: the finished runs in order and the members without one (a run
+/// here that stopped on an error; from `--collect`, also those never run or lost).
 pub struct Members {
     pub finished: Vec<Finished>,
     pub missing: Vec<Missing>,
+    /// Where they ran, for the resume advice of [`Incomplete`].
+    pub executor: Executor,
 }
 
 impl Members {
@@ -82,7 +84,7 @@ impl Members {
     /// study has written its table with their rows).
     pub fn check_complete(&self, out: &Path) -> Result<()> {
         let total = self.finished.len() + self.missing.len();
-        Incomplete::check(&self.missing, total, out)
+        Incomplete::check(&self.missing, total, out, self.executor)
     }
 }
 
@@ -260,14 +262,28 @@ pub fn run_all(
         Executor::Emit => return Err(members::emit(&variants, &cases, out)?.into()),
         Executor::Collect => return members::collect(variants, cases, out),
     }
-    let finished = run_here(base, variants, cases, out, jobs, quiet)?;
-    Ok(Members {
-        finished,
+    let mut members = Members {
+        finished: Vec::new(),
         missing: Vec::new(),
-    })
+        executor: Executor::Here,
+    };
+    for member in run_here(base, variants, cases, out, jobs, quiet) {
+        match member {
+            Ran::Finished(done) => members.finished.push(*done),
+            Ran::Failed(missing) => members.missing.push(*missing),
+        }
+    }
+    Ok(members)
 }
 
-/// Runs the members in this process, `jobs` at a time.
+/// A member run here: finished (or broken down, a result too), or failed on an error.
+enum Ran {
+    Finished(Box<Finished>),
+    Failed(Box<Missing>),
+}
+
+/// Runs the members in this process, `jobs` at a time. A member whose run stops on an error
+/// is recorded (its directory's `error.txt`) and returned as `failed`; the others go on.
 fn run_here(
     base: &Base,
     variants: Vec<Variant>,
@@ -275,64 +291,48 @@ fn run_here(
     out: &Path,
     jobs: usize,
     quiet: bool,
-) -> Result<Vec<Finished>> {
+) -> Vec<Ran> {
     let jobs = jobs.clamp(1, variants.len().max(1));
     let threads = (rayon::current_num_threads() / jobs).max(1);
     let total = variants.len();
     let done = AtomicUsize::new(0);
-    let run_one = |(variant, case): (Variant, Case)| -> Result<Finished> {
+    let run_one = |index: usize, (variant, case): (Variant, Case)| {
         let dir = member_dir(out, &variant);
-        let (variant, case) = match base.reuse {
-            true => match read_finished(variant, case, &dir)? {
-                Ok(done) => return Ok(done),
-                Err(pending) => pending,
-            },
-            false => (variant, case),
-        };
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()?;
-        let options = RunOptions {
-            out_dir: dir.clone(),
-            quiet: true,
-            charts: None,
-            snapshots: false,
-            progress: None,
-        };
-        let summary = pool.install(|| match &variant.from {
-            Some(from) => run::continue_from(&case, &options, from),
-            None => run::run(&case, &options),
-        })?;
-        let series = crate::app::io::read_series(&dir.join("series.csv"))?;
+        let result = run_member(base, variant.clone(), case.clone(), &dir, threads);
         let k = done.fetch_add(1, Ordering::SeqCst) + 1;
-        if !quiet {
-            let l2 = summary
-                .errors
-                .l2_time_mean
-                .map_or("-".to_string(), |v| format!("{v:.3e}"));
-            eprintln!(
-                "[{k}/{total}] {}: {:?} at t = {:.3}, L2 mean {l2}, {:.1} s",
-                if variant.label.is_empty() {
-                    "base"
-                } else {
-                    &variant.label
-                },
-                summary.outcome,
-                summary.t_reached,
-                summary.wall_seconds
-            );
+        let label = match variant.label.is_empty() {
+            true => "base",
+            false => &variant.label,
+        };
+        match result {
+            Ok(finished) => {
+                if !quiet {
+                    report(k, total, label, &finished.summary);
+                }
+                Ran::Finished(Box::new(finished))
+            }
+            Err(e) => {
+                run::record_error(&dir, &e);
+                if !quiet {
+                    eprintln!("[{k}/{total}] {label}: failed: {e:#}");
+                }
+                Ran::Failed(Box::new(Missing {
+                    variant,
+                    case,
+                    dir,
+                    index,
+                    error: Some(format!("{e:#}").replace('\n', " ")),
+                }))
+            }
         }
-        Ok(Finished {
-            variant,
-            case,
-            summary,
-            series,
-            dir,
-        })
     };
     let work: Vec<(Variant, Case)> = variants.into_iter().zip(cases).collect();
     if jobs == 1 {
-        return work.into_iter().map(run_one).collect();
+        return work
+            .into_iter()
+            .enumerate()
+            .map(|(i, w)| run_one(i, w))
+            .collect();
     }
     // `jobs` plain threads taking the runs in order, each run on its own pool. (An outer
     // rayon pool would not bound the concurrency: a worker waiting for a run's pool steals
@@ -341,7 +341,7 @@ fn run_here(
         .into_iter()
         .map(|w| std::sync::Mutex::new(Some(w)))
         .collect();
-    let results: Vec<std::sync::Mutex<Option<Result<Finished>>>> =
+    let results: Vec<std::sync::Mutex<Option<Ran>>> =
         slots.iter().map(|_| std::sync::Mutex::new(None)).collect();
     let next = AtomicUsize::new(0);
     std::thread::scope(|scope| {
@@ -351,7 +351,7 @@ fn run_here(
                 let Some(slot) = slots.get(k) else { break };
                 let item = slot.lock().map(|mut s| s.take()).ok().flatten();
                 if let Some(item) = item {
-                    let result = run_one(item);
+                    let result = run_one(k, item);
                     if let Ok(mut r) = results[k].lock() {
                         *r = Some(result);
                     }
@@ -359,15 +359,62 @@ fn run_here(
             });
         }
     });
+    // Every slot is filled: a thread that panics ends the scope with its panic.
     results
         .into_iter()
-        .map(|r| {
-            r.into_inner()
-                .ok()
-                .flatten()
-                .unwrap_or_else(|| Err(anyhow::anyhow!("a study run did not report")))
-        })
+        .filter_map(|r| r.into_inner().ok().flatten())
         .collect()
+}
+
+/// One member run here (or read back, with `--reuse`) on a pool of `threads`.
+fn run_member(
+    base: &Base,
+    variant: Variant,
+    case: Case,
+    dir: &Path,
+    threads: usize,
+) -> Result<Finished> {
+    let (variant, case) = match base.reuse {
+        true => match read_finished(variant, case, dir)? {
+            Ok(done) => return Ok(done),
+            Err(pending) => pending,
+        },
+        false => (variant, case),
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()?;
+    let options = RunOptions {
+        out_dir: dir.to_path_buf(),
+        quiet: true,
+        charts: None,
+        snapshots: false,
+        progress: None,
+    };
+    let summary = pool.install(|| match &variant.from {
+        Some(from) => run::continue_from(&case, &options, from),
+        None => run::run(&case, &options),
+    })?;
+    let series = crate::app::io::read_series(&dir.join("series.csv"))?;
+    Ok(Finished {
+        variant,
+        case,
+        summary,
+        series,
+        dir: dir.to_path_buf(),
+    })
+}
+
+/// The progress line of a finished member.
+fn report(k: usize, total: usize, label: &str, summary: &Summary) {
+    let l2 = summary
+        .errors
+        .l2_time_mean
+        .map_or("-".to_string(), |v| format!("{v:.3e}"));
+    eprintln!(
+        "[{k}/{total}] {label}: {:?} at t = {:.3}, L2 mean {l2}, {:.1} s",
+        summary.outcome, summary.t_reached, summary.wall_seconds
+    );
 }
 
 /// The directory of a member's run.
