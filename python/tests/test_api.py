@@ -210,6 +210,26 @@ class StudyExecutorTest(unittest.TestCase):
                 )
             self.assert_same_table(here, there)
 
+    def test_a_dask_cluster_gives_the_study_run_here(self):
+        # dask.distributed is installed in the test environment from PyPI (the package's
+        # `dask` extra), as a user would; two worker processes, one thread each.
+        from dask.distributed import Client, LocalCluster
+
+        with tempfile.TemporaryDirectory() as tmp:
+            here = rheosph.study("stability", POISEUILLE, Path(tmp) / "here", **self.ARGS)
+            cluster = LocalCluster(
+                n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+            )
+            with cluster, Client(cluster) as client:
+                there = rheosph.study(
+                    "stability",
+                    POISEUILLE,
+                    Path(tmp) / "dask",
+                    executor=client.get_executor(),
+                    **self.ARGS,
+                )
+            self.assert_same_table(here, there)
+
     def test_a_failed_member_of_a_study_run_here_is_a_row_and_reuse_reruns_it_alone(self):
         with tempfile.TemporaryDirectory() as tmp:
             out = Path(tmp) / "s"

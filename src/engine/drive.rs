@@ -8,7 +8,7 @@
 //! lag with which the bulk velocity answers a change of force. For a force-proportional drag
 //! the error decays as e^{−t g₀/(τ g)}, on the time scale τ; at steady state ⟨u⟩ = U exactly.
 
-use crate::engine::math::Vec2;
+use crate::engine::dimension::Vector;
 use crate::engine::neighbours::Domain;
 use crate::engine::reduce::blocked_sum;
 
@@ -33,17 +33,30 @@ impl Drive {
     }
 
     /// After a step of `dt` that left the bulk velocity `bulk()`: the force of the next step.
-    pub fn update(&self, force: &mut Vec2, bulk: impl FnOnce() -> f64, dt: f64) {
+    pub fn update<const D: usize>(
+        &self,
+        force: &mut Vector<D>,
+        bulk: impl FnOnce() -> f64,
+        dt: f64,
+    ) {
         if let Drive::MeanFlow { target, gain } = *self {
-            force.x += gain * dt * (target - bulk());
+            force[0] += gain * dt * (target - bulk());
         }
     }
 }
 
-/// The bulk velocity ⟨u⟩ = Q/H = Σ u_x δV/(L H): the mean of u_x over the whole box, a solid
-/// counted as at rest.
-pub fn bulk_velocity(velocity: &[Vec2], particle_volume: f64, domain: &Domain) -> f64 {
-    let sum = blocked_sum(velocity.len(), |i| velocity[i].x);
-    let extent = domain.max - domain.min;
-    sum * particle_volume / (extent.x * extent.y)
+/// The bulk velocity ⟨u⟩ = Σ u_x δV / |box| (Q/H in 2D, Q/(H W) in 3D): the mean of u_x over
+/// the whole box, a solid counted as at rest.
+pub fn bulk_velocity<const D: usize>(
+    velocity: &[Vector<D>],
+    particle_volume: f64,
+    domain: &Domain<D>,
+) -> f64 {
+    let sum = blocked_sum(velocity.len(), |i| velocity[i][0]);
+    sum * particle_volume / box_volume(domain)
+}
+
+/// The volume (2D: area) of the box.
+pub fn box_volume<const D: usize>(domain: &Domain<D>) -> f64 {
+    (domain.max - domain.min).iter().product()
 }

@@ -23,7 +23,7 @@
 //!   compressible scheme, whose pressure is the equation of state's). The state's pressure is
 //!   always p: P exists only from the predictor to the end of the projection.
 
-use crate::engine::math::Vec2;
+use crate::engine::dimension::Vector;
 use rayon::prelude::*;
 
 /// Where the body force enters (module docs).
@@ -37,25 +37,41 @@ pub enum Gravity {
 
 impl Gravity {
     /// The body force the predictor (24) adds: g, or nothing when the pressure carries it.
-    pub fn predictor_force(self, g: Vec2) -> Vec2 {
+    pub fn predictor_force<const D: usize>(self, g: Vector<D>) -> Vector<D> {
         match self {
             Gravity::Predictor => g,
-            Gravity::ReducedPressure => Vec2::zeros(),
+            Gravity::ReducedPressure => Vector::zeros(),
         }
     }
 
     /// p → P = p − ρ g·r at the points `points` (one per value; nothing under `Predictor`).
-    pub fn reduce(self, pressure: &mut [f64], points: &[Vec2], rho_g: Vec2) {
+    pub fn reduce<const D: usize>(
+        self,
+        pressure: &mut [f64],
+        points: &[Vector<D>],
+        rho_g: Vector<D>,
+    ) {
         self.shift(pressure, points, rho_g, -1.0);
     }
 
     /// P → p = P + ρ g·r, the inverse of [`Gravity::reduce`] at the same points.
-    pub fn restore(self, pressure: &mut [f64], points: &[Vec2], rho_g: Vec2) {
+    pub fn restore<const D: usize>(
+        self,
+        pressure: &mut [f64],
+        points: &[Vector<D>],
+        rho_g: Vector<D>,
+    ) {
         self.shift(pressure, points, rho_g, 1.0);
     }
 
-    fn shift(self, pressure: &mut [f64], points: &[Vec2], rho_g: Vec2, sign: f64) {
-        if self == Gravity::Predictor || rho_g == Vec2::zeros() {
+    fn shift<const D: usize>(
+        self,
+        pressure: &mut [f64],
+        points: &[Vector<D>],
+        rho_g: Vector<D>,
+        sign: f64,
+    ) {
+        if self == Gravity::Predictor || rho_g == Vector::<D>::zeros() {
             return;
         }
         pressure
@@ -68,6 +84,7 @@ impl Gravity {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::engine::math::Vec2;
 
     #[test]
     fn reduce_and_restore_are_inverse_and_take_out_the_hydrostatic_part() {

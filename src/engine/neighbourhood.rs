@@ -392,7 +392,7 @@ where
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::engine::boundary::{Plane, Shape, TensorMirror, Wall};
+    use crate::engine::boundary::{Plane, Shape, TensorMirror, Tube, Wall};
     use crate::engine::kernel::H_OVER_DR;
     use crate::engine::math::{Sym3, Vec3};
 
@@ -473,5 +473,123 @@ mod tests {
             let d = ext[n + g] - t(&hood.points[n + g]);
             assert!(d.contract(&d).sqrt() < 1e-9, "ghost {g}: {d:?}");
         }
+    }
+
+    /// Rings of a circle of `rings` δr radius about the origin: ring k at (k + ½)δr from the
+    /// wall, round(2πρ/δr) points on it, the innermost ring's half spacing at the centre.
+    fn ring_section(rings: usize, dr: f64) -> Vec<crate::engine::math::Vec2> {
+        let radius = rings as f64 * dr;
+        let mut points = Vec::new();
+        for k in 0..rings {
+            let rho = radius - (k as f64 + 0.5) * dr;
+            let count = (std::f64::consts::TAU * rho / dr).round().max(1.0) as usize;
+            let offset = 0.5 * (k % 2) as f64;
+            points.extend((0..count).map(|j| {
+                let angle = std::f64::consts::TAU * (j as f64 + offset) / count as f64;
+                crate::engine::math::Vec2::new(rho * angle.cos(), rho * angle.sin())
+            }));
+        }
+        points
+    }
+
+    /// The inside of a 3D pipe of radius ½ along x (periodic over 10 δr), δr = 1/16: rings
+    /// of particles in each cross-section, their mirrors across the tube's wall.
+    fn pipe_3d() -> (Neighbourhood<3>, usize, Tube<3>) {
+        let m = 16;
+        let dr = 1.0 / m as f64;
+        let tube = Tube::<3> {
+            centre: Vec3::new(0.0, 0.5, 0.5),
+            radius: 0.5,
+            axis: Some(0),
+        };
+        // Ten layers along the axis (a periodic length above two supports); in each, rings
+        // at (k + ½)δr inside the wall, as a pipe scene lays its particles out.
+        let rings = ring_section(m / 2, dr);
+        let points: Vec<Vec3> = (0..10)
+            .flat_map(|layer| {
+                let x = (layer as f64 + 0.5) * dr;
+                rings
+                    .iter()
+                    .map(move |q| Vec3::new(x, 0.5 + q.x, 0.5 + q.y))
+            })
+            .collect();
+        let n = points.len();
+        let wall = Wall::<3>::no_slip(Shape::Tube(tube), TensorMirror::Linear);
+        let mut hood = Neighbourhood::<3>::new(Ghosts::new(vec![wall]));
+        hood.points = points;
+        let domain = Domain::<3> {
+            min: Vec3::new(0.0, -0.5, -0.5),
+            max: Vec3::new(10.0 * dr, 1.5, 1.5),
+            periodic: [true, false, false],
+        };
+        let kernel = QuinticSpline::in_dimension::<3>(H_OVER_DR * dr);
+        let geometry = Geometry {
+            domain: &domain,
+            kernel: &kernel,
+            spacing: dr,
+        };
+        assert!(hood.update(true, geometry, n));
+        (hood, n, tube)
+    }
+
+    /// Inside a 3D pipe every mirror lies outside the wall, as deep behind it as its parent
+    /// is in front, on the parent's radius; the quadratic continuation carries the pipe's
+    /// Poiseuille profile u = (1 − 4ρ²) x̂ (ρ from the axis, R = ½) exactly onto the mirrors.
+    /// Morris's Laplacian (21) of it, −16, is not exact on rings of particles anywhere (the
+    /// lattice is not a cubic one): measured worst 0.50 in the bulk and 0.44 in the rows
+    /// within a support of the wall, so the mirrors fill the wall rows' supports as well as
+    /// the fluid fills the bulk's; bound 0.8 (5 %) for both. The odd mirror misses the
+    /// curvature there (worst 3.7; bound: more than 2). On a Cartesian lattice cut by the
+    /// wall the first layer's distance from it ranges from 0 to δr and no mirror fills those
+    /// supports (wall rows off by up to 11 of 16): a pipe scene lays its particles in rings.
+    #[test]
+    fn mirrors_across_the_inside_of_a_3d_pipe() {
+        let (hood, n, tube) = pipe_3d();
+        let (list, sums, ghosts) = (&hood.list, &hood.sums, &hood.ghosts);
+        assert!(
+            ghosts.len() > n / 2,
+            "{} ghosts for {n} particles",
+            ghosts.len()
+        );
+        for g in 0..ghosts.len() {
+            let (ghost, parent) = (hood.points[n + g], hood.points[ghosts.parent[g] as usize]);
+            let behind = -tube.distance(&ghost);
+            assert!((behind - tube.distance(&parent)).abs() < 1e-12, "ghost {g}");
+            assert!((ghost.x - parent.x).abs() < 1e-12);
+            let (a, b) = (tube.normal(&ghost), tube.normal(&parent));
+            assert!((a - b).norm() < 1e-12, "ghost {g} off its parent's radius");
+        }
+        let u = |r: &Vec3| {
+            let rho2 = (r.y - 0.5).powi(2) + (r.z - 0.5).powi(2);
+            Vec3::new(1.0 - 4.0 * rho2, 0.0, 0.0)
+        };
+        let fluid: Vec<Vec3> = hood.points[..n].iter().map(u).collect();
+        let mut ext = Vec::new();
+        ghosts.continue_velocity(&fluid, &mut ext);
+        for g in 0..ghosts.len() {
+            assert!(
+                (ext[n + g] - u(&hood.points[n + g])).norm() < 1e-9,
+                "ghost {g}"
+            );
+        }
+        let mut lap = vec![Vec3::zeros(); n];
+        sums.laplacian_vector(list, &ext, &mut lap);
+        let support = QuinticSpline::in_dimension::<3>(H_OVER_DR / 16.0).support();
+        let worst = |lap: &[Vec3], near_wall: bool| {
+            let rows = lap.iter().zip(&hood.points[..n]);
+            rows.filter(|(_, p)| (tube.distance(p) < support) == near_wall)
+                .map(|(l, _)| (l.x + 16.0).abs())
+                .fold(0.0, f64::max)
+        };
+        let (bulk, wall) = (worst(&lap, false), worst(&lap, true));
+        assert!(
+            bulk < 0.8 && wall < 0.8,
+            "bulk {bulk:.3}, wall rows {wall:.3}"
+        );
+        let mut mirrored = Vec::new();
+        ghosts.extend_velocity(&fluid, &mut mirrored);
+        sums.laplacian_vector(list, &mirrored, &mut lap);
+        let odd = worst(&lap, true);
+        assert!(odd > 2.0, "the odd mirror misses the curvature: {odd:.3}");
     }
 }

@@ -215,9 +215,9 @@ pub fn ghosts_of<const D: usize>(
             domain,
         }
         .ghosts(points, near, out),
-        // No lattice behind a corner yet: scenes with corners take mirrors
+        // No lattice behind a corner or a tube yet: scenes with them take mirrors
         // (`setup::scenes::cavity`).
-        Shape::Corner(_) | Shape::Plate(_) => {}
+        Shape::Corner(_) | Shape::Plate(_) | Shape::Tube(_) => {}
     }
 }
 

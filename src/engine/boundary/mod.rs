@@ -18,7 +18,7 @@ pub use condition::{
 };
 pub use continuation::VelocityExtension;
 pub use fixed::WallModel;
-pub use shape::{Circle, Corner, Plane, Plate, Shape};
+pub use shape::{Circle, Corner, Plane, Plate, Shape, Tube};
 
 use crate::engine::dimension::{Dim, Dimension, SymTensor};
 use crate::engine::neighbours::Domain;
@@ -297,7 +297,7 @@ where
             && self
                 .walls
                 .iter()
-                .any(|w| matches!(w.shape, Shape::Circle(_) | Shape::Plate(_)))
+                .any(|w| matches!(w.shape, Shape::Circle(_) | Shape::Plate(_) | Shape::Tube(_)))
     }
 
     pub fn len(&self) -> usize {

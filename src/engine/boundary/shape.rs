@@ -74,6 +74,59 @@ pub struct Circle<const D: usize = 2> {
 /// A solid sphere.
 pub type Sphere = Circle<3>;
 
+/// The inside of a circular pipe of `radius` whose axis runs along `axis` through `centre`
+/// (in space; the pipe-flow benchmarks and the sphere in a tube), or of a circle (in the
+/// plane, `axis` = None: a fluid in a round container). The fluid is inside; the wall's
+/// mirrors lie outside, reflected along the radius in the cross-section, their axial
+/// coordinate kept.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tube<const D: usize = 2> {
+    pub centre: Point<D>,
+    pub radius: f64,
+    /// The axis the pipe runs along (None: the inside of a circle or a sphere).
+    pub axis: Option<usize>,
+}
+
+impl<const D: usize> Tube<D> {
+    /// `p − centre` in the cross-section (its axial component zero).
+    fn radial(&self, p: &Point<D>) -> Point<D> {
+        let mut r = p - self.centre;
+        if let Some(a) = self.axis {
+            r[a] = 0.0;
+        }
+        r
+    }
+
+    /// Distance of `p` from the wall, positive in the fluid (inside).
+    pub fn distance(&self, p: &Point<D>) -> f64 {
+        self.radius - self.radial(p).norm()
+    }
+
+    /// Mirror image of `p` across the wall along the radius: a particle at distance d inside
+    /// lands at distance d outside, r_ij normal to the wall and bisected by it.
+    pub fn reflect(&self, p: &Point<D>) -> Point<D> {
+        let r = self.radial(p);
+        let rho = r.norm();
+        p + r * ((2.0 * self.radius - rho) / rho - 1.0)
+    }
+
+    /// Volume of the mirrored element over the original's, ((R + d)/(R − d))^k with k the
+    /// curved directions of the cross-section (1 for a pipe in space or a circle in the
+    /// plane, 2 for a spherical cavity): mirrors outside a concave wall are spread wider, so
+    /// each carries more volume.
+    pub fn volume_ratio(&self, p: &Point<D>) -> f64 {
+        let d = self.distance(p);
+        let ratio = (self.radius + d) / (self.radius - d);
+        let curved = D - 1 - usize::from(self.axis.is_some());
+        (0..curved).fold(1.0, |v, _| v * ratio)
+    }
+
+    /// The unit normal at the wall point nearest `p`, along the radius (outward).
+    pub fn normal(&self, p: &Point<D>) -> Point<D> {
+        self.radial(p).normalize()
+    }
+}
+
 impl<const D: usize> Circle<D> {
     /// Distance of `p` from the surface, positive in the fluid.
     pub fn distance(&self, p: &Point<D>) -> f64 {
@@ -255,6 +308,7 @@ pub enum Shape<const D: usize = 2> {
     Circle(Circle<D>),
     Corner(Corner<D>),
     Plate(Plate),
+    Tube(Tube<D>),
 }
 
 impl<const D: usize> Shape<D> {
@@ -263,6 +317,7 @@ impl<const D: usize> Shape<D> {
     pub fn nearest_image(&self, p: &Point<D>, domain: Option<&Domain<D>>) -> Point<D> {
         match (self, domain) {
             (Shape::Circle(c), Some(d)) => c.centre + d.min_image(p - c.centre),
+            (Shape::Tube(c), Some(d)) => c.centre + d.min_image(p - c.centre),
             _ => *p,
         }
     }
@@ -273,6 +328,7 @@ impl<const D: usize> Shape<D> {
             Shape::Circle(c) => c.distance(p),
             Shape::Corner(c) => c.distance(p),
             Shape::Plate(c) => c.distance(p),
+            Shape::Tube(c) => c.distance(p),
         }
     }
 
@@ -282,6 +338,7 @@ impl<const D: usize> Shape<D> {
             Shape::Circle(c) => c.reflect(p),
             Shape::Corner(c) => c.reflect(p),
             Shape::Plate(c) => c.reflect(p),
+            Shape::Tube(c) => c.reflect(p),
         }
     }
 
@@ -292,7 +349,7 @@ impl<const D: usize> Shape<D> {
         match self {
             Shape::Plane(w) => Some((w.distance(p), w.inward_normal())),
             Shape::Plate(c) => c.face(p),
-            Shape::Circle(_) | Shape::Corner(_) => None,
+            Shape::Circle(_) | Shape::Corner(_) | Shape::Tube(_) => None,
         }
     }
 
@@ -302,6 +359,7 @@ impl<const D: usize> Shape<D> {
             Shape::Plane(_) | Shape::Corner(_) => 1.0,
             Shape::Circle(c) => c.volume_ratio(p),
             Shape::Plate(c) => c.volume_ratio(p),
+            Shape::Tube(c) => c.volume_ratio(p),
         }
     }
 
@@ -317,6 +375,9 @@ impl<const D: usize> Shape<D> {
             (Shape::Circle(a), Shape::Circle(b)) => {
                 (a.centre - b.centre).norm() + (a.radius - b.radius).abs()
             }
+            (Shape::Tube(a), Shape::Tube(b)) if a.axis == b.axis => {
+                (a.centre - b.centre).norm() + (a.radius - b.radius).abs()
+            }
             (Shape::Corner(a), Shape::Corner(b)) if a.sides == b.sides => {
                 (a.point - b.point).norm()
             }
@@ -330,11 +391,11 @@ impl<const D: usize> Shape<D> {
 
     /// The deepest a mirror can lie behind the surface and still be inside the solid: 2R
     /// for a circle (a particle farther than 2R from its surface would be mirrored through
-    /// the centre into the fluid beyond), a plate's thickness, unbounded for a plane or a
-    /// corner.
+    /// the centre into the fluid beyond), a plate's thickness, unbounded for a plane, a
+    /// corner or a tube (the solid is all outside).
     pub fn mirror_depth(&self) -> f64 {
         match self {
-            Shape::Plane(_) | Shape::Corner(_) => f64::INFINITY,
+            Shape::Plane(_) | Shape::Corner(_) | Shape::Tube(_) => f64::INFINITY,
             Shape::Circle(c) => 2.0 * c.radius,
             // The thickness, which is also the end's diameter.
             Shape::Plate(c) => c.right - c.left,
@@ -353,6 +414,42 @@ impl<const D: usize> Shape<D> {
             // The diagonal from the corner (the composed condition does not use it).
             Shape::Corner(c) => c.offset(p).normalize(),
             Shape::Plate(c) => c.normal(p),
+            Shape::Tube(c) => c.normal(p),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::engine::math::Vec3;
+
+    /// A point d inside a tube of radius R mirrors to d outside on its radius, its axial
+    /// coordinate kept; the mirror's volume ratio is ((R + d)/(R − d))^k, k the curved
+    /// directions: 1 for a pipe in space and a circle in the plane, 2 for a spherical cavity.
+    #[test]
+    fn a_tube_mirrors_outward_along_the_radius() {
+        let (radius, d) = (2.0, 0.25);
+        let pipe = Tube::<3> {
+            centre: Vec3::new(0.0, 1.0, 1.0),
+            radius,
+            axis: Some(0),
+        };
+        let p = Vec3::new(7.0, 1.0, 1.0 + radius - d);
+        assert!((pipe.distance(&p) - d).abs() < 1e-15);
+        let q = pipe.reflect(&p);
+        assert!((q - Vec3::new(7.0, 1.0, 1.0 + radius + d)).norm() < 1e-14);
+        let ratio = (radius + d) / (radius - d);
+        assert!((pipe.volume_ratio(&p) - ratio).abs() < 1e-14);
+        let cavity = Tube::<3> { axis: None, ..pipe };
+        let on_radius = Vec3::new(0.0, 1.0, 1.0 + radius - d);
+        assert!((cavity.volume_ratio(&on_radius) - ratio * ratio).abs() < 1e-14);
+        let circle = Tube::<2> {
+            centre: Vec2::new(0.0, 0.0),
+            radius,
+            axis: None,
+        };
+        assert!((circle.volume_ratio(&Vec2::new(radius - d, 0.0)) - ratio).abs() < 1e-14);
+        assert!(Shape::Tube(pipe).mirror_depth().is_infinite());
     }
 }

@@ -28,30 +28,36 @@
 //! the rule reach 6.4 (the cylinder array) it is 1.3 at ξ = 0.2, which the array at Wi = 4
 //! ran through with the same stress noise as without the control (validation pages).
 
-use crate::engine::math::{Mat2, Sym2, Vec2};
+use crate::engine::dimension::{Dim, Dimension, Matrix, Sym, SymTensor, Vector};
 use crate::engine::neighbourhood::Hood;
 use crate::engine::rheology::Fluid;
 use rayon::prelude::*;
 
 /// The fields the control reads: u^n, ∇u^n and the conformation at n + ½.
 #[derive(Clone, Copy)]
-pub struct HourglassFields<'a> {
-    pub velocity: &'a [Vec2],
-    pub grad_u: &'a [Mat2],
-    pub conformation: &'a [Sym2],
+pub struct HourglassFields<'a, const D: usize = 2>
+where
+    Dim<D>: Dimension<D>,
+{
+    pub velocity: &'a [Vector<D>],
+    pub grad_u: &'a [Matrix<D>],
+    pub conformation: &'a [Sym<D>],
 }
 
 /// The pair penalty on the unresolved relative velocity (module docs), of strength ξ.
 #[derive(Clone, Debug)]
-pub struct HourglassControl {
+pub struct HourglassControl<const D: usize = 2> {
     xi: f64,
     /// The smoothing length h.
     h: f64,
     /// The polymer stress of each fluid particle (scratch).
-    stress: Vec<Mat2>,
+    stress: Vec<Matrix<D>>,
 }
 
-impl HourglassControl {
+impl<const D: usize> HourglassControl<D>
+where
+    Dim<D>: Dimension<D>,
+{
     /// ξ > 0 and the smoothing length h.
     pub fn new(xi: f64, h: f64) -> Self {
         Self {
@@ -75,10 +81,10 @@ impl HourglassControl {
     /// the conformation at n + ½.
     pub fn add(
         &mut self,
-        hood: Hood,
+        hood: Hood<D>,
         fluid: &Fluid,
-        fields: HourglassFields,
-        div_phi: &mut [Vec2],
+        fields: HourglassFields<D>,
+        div_phi: &mut [Vector<D>],
     ) {
         let HourglassFields {
             velocity,
@@ -87,7 +93,7 @@ impl HourglassControl {
         } = fields;
         let Hood { list, sums, .. } = hood;
         let n = velocity.len();
-        self.stress.resize(n, Mat2::zeros());
+        self.stress.resize(n, Matrix::zeros());
         self.stress
             .par_iter_mut()
             .zip(conformation.par_iter())
@@ -97,7 +103,7 @@ impl HourglassControl {
         let scale = 2.0 * sums.dv * self.xi * self.h * rho;
         let stress = &self.stress;
         div_phi.par_iter_mut().enumerate().for_each(|(i, d)| {
-            let mut acc = Vec2::zeros();
+            let mut acc = Vector::<D>::zeros();
             for k in list.range(i) {
                 let j = list.index[k] as usize;
                 if j >= n {
@@ -119,6 +125,7 @@ impl HourglassControl {
 mod tests {
     use super::*;
     use crate::engine::kernel::QuinticSpline;
+    use crate::engine::math::{Mat2, Sym2, Vec2};
     use crate::engine::neighbours::{Domain, NeighbourList, NeighbourSearch};
     use crate::engine::operators::KernelSums;
     use crate::engine::rheology::{Model, ViscosityLaw};

@@ -28,7 +28,7 @@ use crate::engine::bodies::traction::FluidView;
 use crate::engine::bodies::{Bodies, Coupling, Disc, DiscMotion, DiscSet};
 use crate::engine::boundary::inflow::Inflow;
 use crate::engine::boundary::{Ghosts, Wall};
-use crate::engine::drive::{bulk_velocity, Drive};
+use crate::engine::drive::{box_volume, bulk_velocity, Drive};
 use crate::engine::frame::StepVelocities;
 use crate::engine::free_surface::{
     Cohesion, DetachedBodies, DetachedMomentum, FreeSurface, FreeSurfaceStage, SurfaceTensionForm,
@@ -363,10 +363,9 @@ impl Simulation {
         if local.len() != velocity.len() {
             return bulk_velocity(velocity, self.particle_volume(), &self.domain);
         }
-        let extent = self.domain.max - self.domain.min;
         let sum =
             crate::engine::reduce::blocked_sum(velocity.len(), |i| velocity[i].x * local[i].volume);
-        sum / (extent.x * extent.y)
+        sum / box_volume(&self.domain)
     }
 
     /// Sorts the fluid particles along a Morton curve of their cells (see
