@@ -413,21 +413,32 @@ mod tests {
         };
         let walls = [plane(0.0, 1.0), plane(1.0, -1.0)]
             .map(|p| Wall::<3>::no_slip(Shape::Plane(p), TensorMirror::Linear));
-        let mut hood = Neighbourhood::<3>::new(Ghosts::new(walls.to_vec()));
-        hood.points = points;
         let domain = Domain::<3> {
             min: Vec3::new(0.0, -1.0, 0.0),
             max: Vec3::new(1.0, 2.0, 1.0),
             periodic: [true, false, true],
         };
+        (built(walls.to_vec(), points, &domain, dr), n)
+    }
+
+    /// The neighbourhood of `points` (all fluid) with `walls`' mirrors, spacing `dr`.
+    fn built(
+        walls: Vec<Wall<3>>,
+        points: Vec<Vec3>,
+        domain: &Domain<3>,
+        dr: f64,
+    ) -> Neighbourhood<3> {
+        let n = points.len();
+        let mut hood = Neighbourhood::<3>::new(Ghosts::new(walls));
+        hood.points = points;
         let kernel = QuinticSpline::in_dimension::<3>(H_OVER_DR * dr);
         let geometry = Geometry {
-            domain: &domain,
+            domain,
             kernel: &kernel,
             spacing: dr,
         };
         assert!(hood.update(true, geometry, n));
-        (hood, n)
+        hood
     }
 
     /// Between 3D plates the mirrors fill every wall particle's support: each row sees as
@@ -515,21 +526,12 @@ mod tests {
             .collect();
         let n = points.len();
         let wall = Wall::<3>::no_slip(Shape::Tube(tube), TensorMirror::Linear);
-        let mut hood = Neighbourhood::<3>::new(Ghosts::new(vec![wall]));
-        hood.points = points;
         let domain = Domain::<3> {
             min: Vec3::new(0.0, -0.5, -0.5),
             max: Vec3::new(10.0 * dr, 1.5, 1.5),
             periodic: [true, false, false],
         };
-        let kernel = QuinticSpline::in_dimension::<3>(H_OVER_DR * dr);
-        let geometry = Geometry {
-            domain: &domain,
-            kernel: &kernel,
-            spacing: dr,
-        };
-        assert!(hood.update(true, geometry, n));
-        (hood, n, tube)
+        (built(vec![wall], points, &domain, dr), n, tube)
     }
 
     /// Inside a 3D pipe every mirror lies outside the wall, as deep behind it as its parent
