@@ -27,7 +27,7 @@ fn inflow_delivers_the_prescribed_flux_symmetrically() {
     }
     let rows = (u0 * sim.state.time / dr + 0.5).floor() as usize;
     assert_eq!(sim.particles(), 10 * (BUFFER_ROWS + rows));
-    let inflow = sim.inflow.as_ref().unwrap();
+    let inflow = sim.inflow().unwrap();
     assert_eq!(
         inflow.count(),
         10 * BUFFER_ROWS,

@@ -8,7 +8,7 @@ use crate::engine::projection::Projection;
 use crate::engine::rheology::models::Parameter;
 use crate::engine::rheology::{Fluid, LawEntry, Model, Solvent, ViscosityLaw, LAWS, MODELS};
 use crate::engine::scheme::{Method, Scheme};
-use crate::engine::step::{Scales, Setup};
+use crate::engine::step::{FlowSetup, Scales, Setup};
 use crate::setup::error::{field_err, in_range, positive, stage_err, FieldError};
 use crate::setup::experimental::ExperimentalSpec;
 use crate::setup::scenes::Scene;
@@ -71,14 +71,25 @@ impl Case {
 impl Case {
     /// The engine's initial state for this case.
     pub fn setup(&self) -> Setup {
-        let scales = Scales {
+        self.scene.build(&self.fluid, &self.scheme, self.scales())
+    }
+
+    /// The case's scene in space, `depth` deep along z ([`Scene::build_in_space`]).
+    ///
+    /// [`Scene::build_in_space`]: crate::setup::scenes::Scene::build_in_space
+    pub fn setup_in_space(&self, depth: f64) -> Result<FlowSetup<3>, String> {
+        self.scene
+            .build_in_space(&self.fluid, &self.scheme, self.scales(), depth)
+    }
+
+    fn scales(&self) -> Scales {
+        Scales {
             length: self.scene.length_scale(),
             velocity: self
                 .scene
                 .velocity_scale(&self.fluid)
                 .max(f64::MIN_POSITIVE),
-        };
-        self.scene.build(&self.fluid, &self.scheme, scales)
+        }
     }
 }
 use crate::engine::boundary::WallModel;

@@ -272,7 +272,7 @@ impl Run {
 
     /// A checkpoint when one is due (a jet's growing particle count is not checkpointed).
     fn checkpoint_if_due(&mut self) -> Result<()> {
-        if self.sim.inflow.is_some() || !self.cadence.checkpoint_due(self.sim.state.time) {
+        if self.sim.inflow().is_some() || !self.cadence.checkpoint_due(self.sim.state.time) {
             return Ok(());
         }
         self.checkpoint()
@@ -282,7 +282,7 @@ impl Run {
     /// it bit for bit.
     pub fn checkpoint(&mut self) -> Result<()> {
         anyhow::ensure!(
-            self.sim.inflow.is_none(),
+            self.sim.inflow().is_none(),
             "a jet cannot be checkpointed: its particle count grows"
         );
         let t0 = Instant::now();
@@ -383,7 +383,7 @@ impl Run {
             .timers
             .add(Stage::Output, t0.elapsed().as_secs_f64());
         let summary = self.summary(errors, probes);
-        if self.breakdown.is_none() && self.sim.inflow.is_none() {
+        if self.breakdown.is_none() && self.sim.inflow().is_none() {
             // The state another run can start from (`run --from DIR`).
             checkpoint::write(&dir.join(FINAL_STATE_FILE), &self.sim)?;
         }

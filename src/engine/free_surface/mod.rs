@@ -49,8 +49,9 @@ pub use tension::{CapillaryTimeLevel, SurfaceTension, SurfaceTensionSettings};
 pub use wetting::{ContactAngleAt, ContactCurvature, Wetting, WettingSettings};
 
 use crate::engine::boundary::Ghosts;
+use crate::engine::dimension::{Dim, Dimension, Sym, Vector};
 use crate::engine::kernel::QuinticSpline;
-use crate::engine::math::{Sym2, Vec2};
+use crate::engine::math::Vec2;
 use crate::engine::neighbourhood::Hood;
 use crate::engine::neighbours::NeighbourList;
 use crate::engine::pressure::SurfaceRows;
@@ -223,21 +224,24 @@ pub struct SurfaceOptions {
 }
 
 /// What the Dirichlet pressure of Step 5 reads ([`FreeSurfaceStage::dirichlet_pressure`]).
-pub struct DirichletInputs<'a> {
-    pub hood: Hood<'a>,
+pub struct DirichletInputs<'a, const D: usize = 2>
+where
+    Dim<D>: Dimension<D>,
+{
+    pub hood: Hood<'a, D>,
     /// The positions of the rows (fluid first).
-    pub points: &'a [Vec2],
+    pub points: &'a [Vector<D>],
     pub fluid: &'a Fluid,
     /// φ = η(γ̇)/η0 of a generalised Newtonian fluid (empty: uniform).
     pub viscosity_factor: &'a [f64],
     /// u* of the fluid, then of the ghosts.
-    pub velocity_star: &'a [Vec2],
+    pub velocity_star: &'a [Vector<D>],
     /// u^n, and how far in time the positions lie ahead of r^n, for the curvature's time
     /// level ([`CapillaryTimeLevel`]).
-    pub velocity: &'a [Vec2],
+    pub velocity: &'a [Vector<D>],
     pub ahead: f64,
     /// A^{n+½}.
-    pub conformation: &'a [Sym2],
+    pub conformation: &'a [Sym<D>],
     /// Rows whose value is prescribed (an inflow buffer).
     pub prescribed: &'a [bool],
 }

@@ -3,13 +3,13 @@
 //! et al. ([`WeakMethod`]: an equation of state and continuity). Each owns only the stages
 //! it uses; the step calls the chosen one through [`Integrator`] and never asks which it is.
 
+use super::features::{AfterProjection, Features};
 use super::Breakdown;
-use crate::engine::boundary::inflow::Inflow;
+use crate::engine::dimension::{Dim, Dimension, Vector};
 use crate::engine::frame::Frame;
-use crate::engine::free_surface::{BodyInputs, DetachedBodies, DirichletInputs, FreeSurfaceStage};
+use crate::engine::free_surface::DirichletInputs;
 use crate::engine::gravity::Gravity;
 use crate::engine::kernel::QuinticSpline;
-use crate::engine::math::Vec2;
 use crate::engine::neighbourhood::Neighbourhood;
 use crate::engine::neighbours::Domain;
 use crate::engine::pressure::{PpeSettings, PressureStage};
@@ -17,35 +17,34 @@ use crate::engine::projection::ProjectionStage;
 use crate::engine::rheology::Fluid;
 use crate::engine::state::{Scales, State};
 use crate::engine::timing::{Stage, StageSeconds};
-use crate::engine::volume::RowSupport;
 use crate::engine::weakly_compressible::{MomentumInputs, WeakStage, DENSITY_DEVIATION_LIMIT};
 use rheosph_solver::SolveReport;
 
 /// The integrator's terms of the predictor (24).
-#[derive(Default)]
-pub(super) struct MomentumTerms<'a> {
+pub(super) struct MomentumTerms<'a, const D: usize = 2> {
     /// ∇p^n (the incremental projection).
-    pub old_pressure_gradient: Option<&'a [Vec2]>,
+    pub old_pressure_gradient: Option<&'a [Vector<D>]>,
     /// The weakly compressible scheme's pressure, polymer-stress, artificial viscosity and
     /// stress accelerations.
-    pub weak: Option<&'a [Vec2]>,
+    pub weak: Option<&'a [Vector<D>]>,
 }
 
 /// What Steps 5–6 read and write: the predictor's u*, the state, and the stages around.
-pub(super) struct Correction<'a> {
-    pub hood: &'a Neighbourhood,
-    pub free_surface: Option<&'a mut FreeSurfaceStage>,
-    /// Free surfaces under the projection: the detached bodies whose momentum it keeps.
-    pub detached: Option<&'a mut DetachedBodies>,
+pub(super) struct Correction<'a, const D: usize = 2>
+where
+    Dim<D>: Dimension<D>,
+{
+    pub hood: &'a Neighbourhood<D>,
+    /// The scene's free surface, inflow and detached bodies ([`Features`]).
+    pub features: &'a mut dyn Features<D>,
     /// φ = η(γ̇)/η0 per particle (empty: uniform viscosity).
     pub viscosity_factor: &'a [f64],
     /// u* in, u^{n+1} out.
-    pub velocity_star: &'a mut Vec<Vec2>,
-    pub state: &'a mut State,
+    pub velocity_star: &'a mut Vec<Vector<D>>,
+    pub state: &'a mut State<D>,
     pub fluid: &'a Fluid,
     pub kernel: &'a QuinticSpline,
-    pub domain: &'a Domain,
-    pub inflow: Option<&'a Inflow>,
+    pub domain: &'a Domain<D>,
     pub frame: Frame,
     pub gravity: Gravity,
     pub scales: &'a Scales,
@@ -56,7 +55,10 @@ pub(super) struct Correction<'a> {
 }
 
 /// Steps 5–6 and what the rest of the step needs from them.
-pub(super) trait Integrator: Send + Sync {
+pub(super) trait Integrator<const D: usize = 2>: Send + Sync
+where
+    Dim<D>: Dimension<D>,
+{
     /// The integrator's own step limit for smoothing length `h` and the fastest particle
     /// (∞: none).
     fn dt_limit(&self, _h: f64, _max_speed: f64) -> f64 {
@@ -67,10 +69,10 @@ pub(super) trait Integrator: Send + Sync {
     fn follow_polymer(&mut self, _max_polymer_stress: f64) {}
 
     /// Step 4: this integrator's terms of the predictor.
-    fn momentum<'a>(&'a mut self, inputs: &MomentumInputs<'a>) -> MomentumTerms<'a>;
+    fn momentum<'a>(&'a mut self, inputs: &MomentumInputs<'a, D>) -> MomentumTerms<'a, D>;
 
     /// Steps 5–6: u^{n+1} and p^{n+1} from u*; the PPE solve's report, if there is one.
-    fn correct(&mut self, step: Correction) -> Result<Option<SolveReport>, Breakdown>;
+    fn correct(&mut self, step: Correction<D>) -> Result<Option<SolveReport>, Breakdown>;
 
     /// The invariant this integrator does not keep by construction.
     fn check(&self) -> Result<(), String> {
@@ -112,14 +114,24 @@ pub(super) trait Integrator: Send + Sync {
 }
 
 /// King & Lind's projection: the PPE (25) with Dirichlet rows on a free surface, then (26).
-pub(super) struct ProjectionMethod {
-    projection: ProjectionStage,
-    pressure: PressureStage,
+pub(super) struct ProjectionMethod<const D: usize = 2>
+where
+    Dim<D>: Dimension<D>,
+{
+    projection: ProjectionStage<D>,
+    pressure: PressureStage<D>,
     ppe: PpeSettings,
 }
 
-impl ProjectionMethod {
-    pub fn new(projection: ProjectionStage, pressure: PressureStage, ppe: PpeSettings) -> Self {
+impl<const D: usize> ProjectionMethod<D>
+where
+    Dim<D>: Dimension<D>,
+{
+    pub fn new(
+        projection: ProjectionStage<D>,
+        pressure: PressureStage<D>,
+        ppe: PpeSettings,
+    ) -> Self {
         Self {
             projection,
             pressure,
@@ -128,47 +140,40 @@ impl ProjectionMethod {
     }
 
     /// Step 5: the pressure Poisson equation (25), with Dirichlet rows on a free surface.
-    fn pressure_poisson(&mut self, c: &mut Correction) -> Result<SolveReport, Breakdown> {
+    fn pressure_poisson(&mut self, c: &mut Correction<D>) -> Result<SolveReport, Breakdown> {
         let (fluid, dt) = (c.fluid, c.dt);
         let rho_g = fluid.density * c.state.body_force;
         let ahead = if c.frame.moves_particles() { dt } else { 0.0 };
         let (hood, points) = (c.hood.parts(), &c.hood.points);
-        let buffer = c.inflow.map_or(&[][..], |b| &b.flags);
         let (pressure, projection) = (&mut self.pressure, &mut self.projection);
         let s = &mut *c.state;
-        let free_surface = &mut c.free_surface;
+        let features = &mut *c.features;
         let (gravity, factor) = (c.gravity, c.viscosity_factor);
         c.timers.time(Stage::PpeAssembly, || {
             pressure.divergence(hood, c.velocity_star);
             let divergence = pressure.divergence_mut();
             projection.stabilise(hood, &s.pressure, fluid.density, dt, divergence);
-            let dirichlet = free_surface.as_mut().map(|fs| {
-                fs.dirichlet_pressure(&DirichletInputs {
-                    hood,
-                    points,
-                    fluid,
-                    viscosity_factor: factor,
-                    velocity_star: pressure.velocity_star_ext(),
-                    velocity: &s.velocity,
-                    ahead,
-                    conformation: &s.conformation,
-                    prescribed: buffer,
-                });
-                let n = s.pressure.len();
-                gravity.reduce(fs.values_mut(), &points[..n], rho_g);
-                projection.dirichlet_for_unknown(fs.values_mut(), &s.pressure);
-                fs.choose_rows(hood.list, points, hood.ghosts);
-                fs.dirichlet()
-            });
-            let rows = dirichlet.unwrap_or_default();
-            pressure.assemble(hood, fluid.density, dt, rows);
-            let surface = free_surface.as_ref().map(|fs| &fs.surface);
-            let support = |i| surface.map_or(RowSupport::Full, |s| s.row_support(i));
-            pressure.relax_volume(hood, support, dt);
+            let inputs = DirichletInputs {
+                hood,
+                points,
+                fluid,
+                viscosity_factor: factor,
+                velocity_star: pressure.velocity_star_ext(),
+                velocity: &s.velocity,
+                ahead,
+                conformation: &s.conformation,
+                prescribed: &[],
+            };
+            let n = s.pressure.len();
+            let mut shift = |values: &mut [f64]| {
+                gravity.reduce(values, &points[..n], rho_g);
+                projection.dirichlet_for_unknown(values, &s.pressure);
+            };
+            let rows = features.dirichlet_rows(&inputs, &mut shift);
+            pressure.assemble(hood, fluid.density, dt, rows.unwrap_or_default());
+            pressure.relax_volume(hood, |i| features.row_support(i), dt);
         });
-        let dirichlet = free_surface
-            .as_ref()
-            .is_some_and(|fs| fs.dirichlet().pin_level());
+        let dirichlet = c.features.pins_pressure_level();
         let unknown = projection.unknown(&mut s.pressure, self.ppe.warm_start);
         let scales = c.scales;
         c.timers
@@ -181,46 +186,40 @@ impl ProjectionMethod {
     }
 
     /// Step 6: u^{n+1} = u* − (δt/ρ)∇p^{n+1} (or ∇ of the increment), written over u*.
-    fn project(&mut self, c: &mut Correction) {
+    fn project(&mut self, c: &mut Correction<D>) {
         let dt_over_rho = c.dt / c.fluid.density;
         let (pressure, projection) = (&mut self.pressure, &mut self.projection);
         let s = &mut *c.state;
         let (hood, u_star) = (c.hood, &mut *c.velocity_star);
-        let (inflow, domain, dt) = (c.inflow, c.domain, c.dt);
-        let buffer = inflow.map_or(&[][..], |b| &b.flags);
-        let (free_surface, detached) = (&mut c.free_surface, &mut c.detached);
+        let (features, domain, dt) = (&mut *c.features, c.domain, c.dt);
         c.timers.time(Stage::Projection, || {
             let solved = projection.update_pressure(&mut s.pressure);
             pressure.project(hood.parts(), solved, dt_over_rho, u_star);
-            if let Some(fs) = free_surface.as_mut() {
-                fs.hold_off_walls(u_star);
-            }
-            if let Some(inflow) = inflow {
-                inflow.prescribe(u_star, inflow.velocity);
-            }
-            if let Some(bodies) = detached.as_mut() {
-                let n = s.velocity.len();
-                let inputs = BodyInputs {
-                    list: &hood.list,
-                    points: &hood.points[..n],
-                    buffer,
-                    domain,
-                };
-                bodies.conserve(&inputs, &s.velocity[..], &mut u_star[..], s.body_force, dt);
-            }
+            features.after_projection(AfterProjection {
+                hood: hood.parts(),
+                points: &hood.points,
+                domain,
+                velocity: &s.velocity,
+                velocity_new: u_star,
+                body_force: s.body_force,
+                dt,
+            });
         });
     }
 }
 
-impl Integrator for ProjectionMethod {
-    fn momentum<'a>(&'a mut self, m: &MomentumInputs<'a>) -> MomentumTerms<'a> {
+impl<const D: usize> Integrator<D> for ProjectionMethod<D>
+where
+    Dim<D>: Dimension<D>,
+{
+    fn momentum<'a>(&'a mut self, m: &MomentumInputs<'a, D>) -> MomentumTerms<'a, D> {
         MomentumTerms {
             old_pressure_gradient: self.projection.old_pressure_gradient(m.hood, m.pressure),
             weak: None,
         }
     }
 
-    fn correct(&mut self, mut c: Correction) -> Result<Option<SolveReport>, Breakdown> {
+    fn correct(&mut self, mut c: Correction<D>) -> Result<Option<SolveReport>, Breakdown> {
         let report = self.pressure_poisson(&mut c)?;
         self.project(&mut c);
         Ok(Some(report))
@@ -260,7 +259,7 @@ impl WeakMethod {
     }
 }
 
-impl Integrator for WeakMethod {
+impl Integrator<2> for WeakMethod {
     fn dt_limit(&self, h: f64, max_speed: f64) -> f64 {
         self.stage.dt_limit(h, max_speed)
     }
@@ -278,17 +277,9 @@ impl Integrator for WeakMethod {
 
     /// p^{n+1} from continuity with u^{n+1}, which the predictor's u* is.
     fn correct(&mut self, c: Correction) -> Result<Option<SolveReport>, Breakdown> {
-        if let Some(inflow) = c.inflow {
-            inflow.prescribe(c.velocity_star, inflow.velocity);
-        }
         let hood = c.hood.parts();
-        if let Some(fs) = c.free_surface {
-            // Under `contact_rows = "held"` (the only choice besides `surface` that the weakly
-            // compressible scheme takes) the surface particles within δr/4 of a wall lose
-            // their velocity into it; under `surface` nothing is held.
-            fs.choose_rows(hood.list, &c.hood.points, hood.ghosts);
-            fs.hold_off_walls(c.velocity_star);
-        }
+        c.features
+            .before_continuity(hood, &c.hood.points, c.velocity_star);
         let s = c.state;
         let shift = c.shifting.then_some(&s.shift_velocity[..]);
         let (stage, kernel, u_star, dt) = (&mut self.stage, c.kernel, &*c.velocity_star, c.dt);

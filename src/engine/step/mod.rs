@@ -18,16 +18,18 @@
 //! δt follows (28) ([`Viscosity::dt_limit`](crate::engine::viscosity::Viscosity::dt_limit)).
 
 mod checks;
+mod features;
 mod integrator;
 
 pub use crate::engine::ordering::REORDER_INTERVAL;
 pub use crate::engine::state::{Breakdown, Scales, State, StepReport};
+pub use features::{Features, FeaturesOf, InternalFlow, PlaneFeatures, StepDimension};
 
 use crate::engine::bodies::contact::Contact;
-use crate::engine::bodies::traction::FluidView;
-use crate::engine::bodies::{Bodies, Coupling, Disc, DiscMotion, DiscSet};
+use crate::engine::bodies::{Bodies, Disc, DiscMotion, DiscSet};
 use crate::engine::boundary::inflow::Inflow;
 use crate::engine::boundary::{Ghosts, Wall};
+use crate::engine::dimension::{Dim, Dimension, Sym, SymTensor, Vector};
 use crate::engine::drive::{box_volume, bulk_velocity, Drive};
 use crate::engine::frame::StepVelocities;
 use crate::engine::free_surface::{
@@ -37,7 +39,7 @@ use crate::engine::free_surface::{
 use crate::engine::gravity::Gravity;
 use crate::engine::kernel::{QuinticSpline, H_OVER_DR};
 use crate::engine::kinematics::Kinematics;
-use crate::engine::math::{Sym2, Vec2};
+use crate::engine::math::Vec2;
 use crate::engine::neighbourhood::{default_skin, Geometry, Hood, Neighbourhood};
 use crate::engine::neighbours::Domain;
 use crate::engine::operators::DivergenceForm;
@@ -53,14 +55,15 @@ use crate::engine::shifting::{ShiftInputs, ShiftRule, Shifting};
 use crate::engine::stabilisation::PressureStabilisation;
 use crate::engine::timing::{Stage, StageSeconds};
 use crate::engine::viscosity::{
-    elastic_wave_speed, Diffusion, DtInputs, Prescribed, ShearDependentViscosity, ViscousStage,
+    elastic_wave_speed, Diffusion, DtInputs, ShearDependentViscosity, ViscousStage,
 };
 use crate::engine::volume::VolumeRelaxation;
 use crate::engine::weakly_compressible::{MomentumInputs, WeakStage};
+use features::{BodyStep, SurfaceForceInputs};
 use integrator::{Correction, Integrator, ProjectionMethod, WeakMethod};
 use rayon::prelude::*;
 
-/// Everything needed to start a simulation.
+/// Everything needed to start a simulation in the plane.
 #[derive(Clone, Debug)]
 pub struct Setup {
     pub domain: Domain,
@@ -95,59 +98,79 @@ pub struct Setup {
     pub resolution: Resolution,
 }
 
+/// Everything needed to start an internal flow in D dimensions: walls, particles, fluid and
+/// scheme, without the plane's features (a 3D simulation starts from this alone).
+#[derive(Clone, Debug)]
+pub struct FlowSetup<const D: usize>
+where
+    Dim<D>: Dimension<D>,
+{
+    pub domain: Domain<D>,
+    pub walls: Vec<Wall<D>>,
+    pub positions: Vec<Vector<D>>,
+    pub velocity: Vec<Vector<D>>,
+    pub spacing: f64,
+    pub fluid: Fluid,
+    pub scheme: Scheme,
+    pub body_force: Vector<D>,
+    pub drive: Drive,
+    pub scales: Scales,
+}
+
 /// The stage objects of the step, built once from the scheme.
-struct Stages {
+struct Stages<const D: usize>
+where
+    Dim<D>: StepDimension<D>,
+{
     reordering: Reordering,
     /// Step 1's r* (fluid), then step 2's mirrors, lists and kernel sums.
-    hood: Neighbourhood,
+    hood: Neighbourhood<D>,
     /// u^n extended to the ghosts, ∇u^n and the constitutive gradient.
-    kinematics: Kinematics,
-    shifting: Shifting,
-    free_surface: Option<FreeSurfaceStage>,
-    conformation: Option<ConformationStage>,
+    kinematics: Kinematics<D>,
+    shifting: Shifting<D>,
+    conformation: Option<ConformationStage<D>>,
     /// The polymer stress's hourglass control (None: off, or no polymer).
-    hourglass: Option<HourglassControl>,
-    viscous: ViscousStage,
+    hourglass: Option<HourglassControl<D>>,
+    viscous: ViscousStage<D>,
     /// φ = η(γ̇)/η0 of a generalised Newtonian fluid (None: uniform viscosity).
     shear_viscosity: Option<ShearDependentViscosity>,
     /// ν of the viscous term: (β + α_V)η0/ρ (η0/ρ for a Newtonian fluid).
     nu: f64,
-    velocity_star: Vec<Vec2>,
-    /// The rigid discs and the walls they own.
-    bodies: Bodies,
+    velocity_star: Vec<Vector<D>>,
     /// Steps 5–6: the projection or the weakly compressible scheme.
-    integrator: Box<dyn Integrator>,
-    /// A surface tension as a cohesion force (None: none, or the capillary jump σκ).
-    cohesion: Option<Cohesion>,
-    /// Free surfaces under the projection: the detached bodies whose momentum the step
-    /// keeps (None: not corrected).
-    detached: Option<DetachedBodies>,
+    integrator: Box<dyn Integrator<D>>,
+    /// Free surfaces, bodies, inflow: what the scene adds to internal flow.
+    features: FeaturesOf<D>,
 }
 
-/// A running simulation.
-pub struct Simulation {
+/// A running simulation in D = 2 (the default) or 3 dimensions.
+pub struct Simulation<const D: usize = 2>
+where
+    Dim<D>: StepDimension<D>,
+{
     pub fluid: Fluid,
     pub scheme: Scheme,
     pub kernel: QuinticSpline,
     pub spacing: f64,
-    pub domain: Domain,
+    pub domain: Domain<D>,
     pub drive: Drive,
     pub scales: Scales,
-    /// The inflow buffer of a jet; its flags follow the particle order.
-    pub inflow: Option<Inflow>,
-    pub state: State,
+    pub state: State<D>,
     pub timers: StageSeconds,
-    stages: Stages,
+    stages: Stages<D>,
 }
 
 /// The neighbourhood of `walls` under `scheme`'s wall and operator settings, for particles
 /// `spacing` apart or graded by `resolution`.
-fn neighbourhood(
-    walls: Vec<Wall>,
+fn neighbourhood<const D: usize>(
+    walls: Vec<Wall<D>>,
     scheme: &Scheme,
     spacing: f64,
-    resolution: Resolution,
-) -> Neighbourhood {
+    resolution: Resolution<D>,
+) -> Neighbourhood<D>
+where
+    Dim<D>: Dimension<D>,
+{
     let mut ghosts = Ghosts::new(walls);
     ghosts.set_model(scheme.wall_model, spacing);
     ghosts.set_velocity_extension(scheme.wall_velocity);
@@ -157,17 +180,23 @@ fn neighbourhood(
     hood
 }
 
-impl Simulation {
+/// What [`Simulation::assemble`] puts together besides the flow's set-up.
+struct Parts<const D: usize>
+where
+    Dim<D>: StepDimension<D>,
+{
+    kernel: QuinticSpline,
+    hood: Neighbourhood<D>,
+    shifting: Shifting<D>,
+    form: Option<DivergenceForm>,
+    integrator: Box<dyn Integrator<D>>,
+    features: FeaturesOf<D>,
+}
+
+impl Simulation<2> {
     pub fn new(setup: Setup) -> Self {
-        let n = setup.positions.len();
-        let skin = setup.scheme.neighbour_skin;
-        let (fluid, scheme) = (setup.fluid, setup.scheme);
-        let viscoelastic = fluid.model.is_viscoelastic();
-        let conformation = if viscoelastic {
-            vec![fluid.model.rest_conformation(); n]
-        } else {
-            Vec::new()
-        };
+        let scheme = setup.scheme;
+        let fluid = &setup.fluid;
         let kernel = QuinticSpline::for_spacing(setup.spacing);
         let mut walls = setup.walls;
         let cohesive = scheme.surface_tension.form == SurfaceTensionForm::Cohesion;
@@ -207,15 +236,97 @@ impl Simulation {
             Method::Projection if setup.free_surface => Some(DivergenceForm::Positive),
             Method::Projection => Some(DivergenceForm::Negative),
         };
-        let stages = Stages {
-            reordering: Reordering::new(scheme.reorder, scheme.frame.moves_particles()),
-            hood,
-            kinematics: Kinematics::new(scheme.constitutive_gradient),
-            shifting: shifting(&scheme, setup.free_surface, setup.contact, setup.spacing),
+        let features = PlaneFeatures {
             free_surface: setup.free_surface.then(|| {
                 let sigma = if cohesive { 0.0 } else { fluid.surface_tension };
                 FreeSurfaceStage::new(scheme.surface_options(), sigma, setup.spacing, wetting)
             }),
+            cohesion,
+            detached: (setup.free_surface
+                && scheme.method == Method::Projection
+                && scheme.free_surface.detached_momentum == DetachedMomentum::Conserved)
+                .then(DetachedBodies::default),
+            bodies,
+            inflow: setup.inflow,
+        };
+        let parts = Parts {
+            shifting: shifting(&scheme, setup.free_surface, setup.contact, setup.spacing),
+            integrator: integrator(&scheme, fluid, &kernel, setup.spacing),
+            kernel,
+            hood,
+            form,
+            features,
+        };
+        let flow = FlowSetup {
+            domain: setup.domain,
+            walls: Vec::new(),
+            positions: setup.positions,
+            velocity: setup.velocity,
+            spacing: setup.spacing,
+            fluid: setup.fluid,
+            scheme,
+            body_force: setup.body_force,
+            drive: setup.drive,
+            scales: setup.scales,
+        };
+        Self::assemble(flow, parts)
+    }
+
+    /// The inflow buffer of a jet; its flags follow the particle order.
+    pub fn inflow(&self) -> Option<&Inflow> {
+        self.stages.features.inflow.as_ref()
+    }
+}
+
+impl Simulation<3> {
+    /// A simulation in space: internal flow between walls, in periodic boxes and pipes.
+    /// Refused, naming the setting, where the scheme asks for what is written only in the
+    /// plane.
+    pub fn in_space(setup: FlowSetup<3>) -> Result<Self, String> {
+        let scheme = &setup.scheme;
+        if let Some(key) = plane_only(scheme) {
+            return Err(format!("{key} is written for 2D scenes only"));
+        }
+        let kernel = QuinticSpline::in_dimension::<3>(H_OVER_DR * setup.spacing);
+        let hood = neighbourhood(
+            setup.walls.clone(),
+            scheme,
+            setup.spacing,
+            Resolution::Uniform,
+        );
+        let parts = Parts {
+            shifting: shifting(scheme, false, None, setup.spacing),
+            integrator: projection_method(scheme, &setup.fluid, &kernel, setup.spacing),
+            kernel,
+            hood,
+            form: Some(DivergenceForm::Negative),
+            features: InternalFlow,
+        };
+        Ok(Self::assemble(setup, parts))
+    }
+}
+
+impl<const D: usize> Simulation<D>
+where
+    Dim<D>: StepDimension<D>,
+{
+    /// The simulation of `flow` (its walls already in `parts.hood`) with the stages the
+    /// scheme chooses.
+    fn assemble(flow: FlowSetup<D>, parts: Parts<D>) -> Self {
+        let n = flow.positions.len();
+        let skin = flow.scheme.neighbour_skin;
+        let (fluid, scheme, kernel) = (flow.fluid, flow.scheme, parts.kernel);
+        let viscoelastic = fluid.model.is_viscoelastic();
+        let conformation = if viscoelastic {
+            vec![fluid.model.rest_conformation(); n]
+        } else {
+            Vec::new()
+        };
+        let stages = Stages {
+            reordering: Reordering::new(scheme.reorder, scheme.frame.moves_particles()),
+            hood: parts.hood,
+            kinematics: Kinematics::new(scheme.constitutive_gradient),
+            shifting: parts.shifting,
             conformation: viscoelastic.then(|| {
                 ConformationStage::new(
                     ConformationChoice {
@@ -225,7 +336,7 @@ impl Simulation {
                     },
                     &fluid,
                     scheme.evss_alpha,
-                    form,
+                    parts.form,
                 )
             }),
             hourglass: HourglassControl::chosen(scheme.hourglass_control, viscoelastic, kernel.h()),
@@ -234,29 +345,18 @@ impl Simulation {
                 .then(|| ShearDependentViscosity::new(fluid.law, fluid.viscosity)),
             nu: scheme.viscosity_nu(&fluid),
             velocity_star: Vec::new(),
-            bodies,
-            integrator: integrator(&scheme, &fluid, &kernel, setup.spacing),
-            cohesion,
-            detached: (setup.free_surface
-                && scheme.method == Method::Projection
-                && scheme.free_surface.detached_momentum == DetachedMomentum::Conserved)
-                .then(DetachedBodies::default),
+            integrator: parts.integrator,
+            features: parts.features,
         };
         let mut sim = Self {
             kernel,
             fluid,
             scheme,
-            spacing: setup.spacing,
-            domain: setup.domain,
-            drive: setup.drive,
-            scales: setup.scales,
-            inflow: setup.inflow,
-            state: State::initial(
-                setup.positions,
-                setup.velocity,
-                conformation,
-                setup.body_force,
-            ),
+            spacing: flow.spacing,
+            domain: flow.domain,
+            drive: flow.drive,
+            scales: flow.scales,
+            state: State::initial(flow.positions, flow.velocity, conformation, flow.body_force),
             timers: StageSeconds::default(),
             stages,
         };
@@ -280,9 +380,9 @@ impl Simulation {
         self.state.position.len()
     }
 
-    /// Particle volume δV = δr².
+    /// Particle volume δV = δr^D.
     pub fn particle_volume(&self) -> f64 {
-        self.spacing * self.spacing
+        (0..D).fold(1.0, |v, _| v * self.spacing)
     }
 
     /// The time step: `dt_factor` times the limit of the viscosity scheme
@@ -363,8 +463,9 @@ impl Simulation {
         if local.len() != velocity.len() {
             return bulk_velocity(velocity, self.particle_volume(), &self.domain);
         }
-        let sum =
-            crate::engine::reduce::blocked_sum(velocity.len(), |i| velocity[i].x * local[i].volume);
+        let sum = crate::engine::reduce::blocked_sum(velocity.len(), |i| {
+            velocity[i][0] * local[i].volume
+        });
         sum / box_volume(&self.domain)
     }
 
@@ -380,9 +481,7 @@ impl Simulation {
             order.apply_vec2(&mut s.shift_velocity);
             order.apply_scalar(&mut s.pressure);
             order.apply_sym(&mut s.conformation);
-            if let Some(inflow) = self.inflow.as_mut() {
-                order.apply_bool(&mut inflow.flags);
-            }
+            self.stages.features.reorder(order);
             self.stages.integrator.invalidate_preconditioner();
             self.stages.viscous.invalidate_preconditioner();
         }
@@ -402,7 +501,7 @@ impl Simulation {
     /// configuration (neighbour lists, kernel sums, PPE matrix and LU factors) for rebuilding.
     /// The last step's velocity gradient, the preconditioners and the viscous guess are
     /// dropped, as before a first step.
-    pub fn restore_state(&mut self, state: State) {
+    pub fn restore_state(&mut self, state: State<D>) {
         self.state = state;
         self.stages.hood.invalidate();
         self.stages.integrator.configuration_changed();
@@ -420,9 +519,8 @@ impl Simulation {
         let (stable, wave_speed) = self.step_limit(max_polymer_stress);
         let dt = stable.min(dt_max);
         self.intermediate_positions(dt);
-        if !self.stages.bodies.is_empty() {
-            self.stages.bodies.apply(&mut self.stages.hood.ghosts, dt);
-        }
+        let st = &mut self.stages;
+        st.features.move_walls(&mut st.hood.ghosts, dt);
         self.neighbourhoods();
         self.kinematics(dt);
         self.constitutive_update(dt);
@@ -460,48 +558,26 @@ impl Simulation {
     /// Under `scheme.gravity = "reduced-pressure"`, the state's p becomes P = p − ρ g·r* for
     /// steps 4–6 (`shift` = [`Gravity::reduce`]) and p again after them
     /// ([`Gravity::restore`]); nothing otherwise.
-    fn shift_pressure(&mut self, shift: fn(Gravity, &mut [f64], &[Vec2], Vec2)) {
+    fn shift_pressure(&mut self, shift: fn(Gravity, &mut [f64], &[Vector<D>], Vector<D>)) {
         let s = &mut self.state;
         let rho_g = self.fluid.density * s.body_force;
         let points = &self.stages.hood.points[..s.pressure.len()];
         shift(self.scheme.gravity, &mut s.pressure, points, rho_g);
     }
 
-    /// After step 7: the discs' loads from the new state, then their motion.
+    /// After step 7: the bodies' loads from the new state, then their motion.
     fn move_bodies(&mut self, dt: f64) {
-        if self.stages.bodies.is_empty() {
-            return;
-        }
-        let view = FluidView {
-            state: &self.state,
+        let particle_volume = self.particle_volume();
+        self.stages.features.move_bodies(BodyStep {
+            state: &mut self.state,
             kernel: &self.kernel,
             domain: &self.domain,
             fluid: &self.fluid,
             walls: &self.stages.hood.ghosts.walls,
-        };
-        let g = self.state.body_force;
-        let fluid = &self.fluid;
-        let elastic = if fluid.model.is_viscoelastic() && fluid.relaxation_time > 0.0 {
-            fluid.polymer_viscosity() / fluid.relaxation_time * dt
-        } else {
-            0.0
-        };
-        let coupling = Coupling {
-            fluid_density: fluid.density,
-            response_viscosity: fluid.solvent_viscosity() + elastic,
-            viscosity: fluid.viscosity,
             spacing: self.spacing,
+            particle_volume,
             dt,
-            domain: self.domain,
-            stiffening: 1.0,
-        };
-        let dv = self.particle_volume();
-        let bodies = &mut self.stages.bodies;
-        self.timers
-            .time(Stage::Bodies, || bodies.advance(view, g, &coupling));
-        let velocity = &mut self.state.velocity;
-        self.state.body_force = self.timers.time(Stage::Bodies, || {
-            bodies.hold_return_flow(velocity, dv, fluid.density, g, dt)
+            timers: &mut self.timers,
         });
     }
 
@@ -534,13 +610,10 @@ impl Simulation {
     /// Step 2: the free surface (36)–(39), ∇u^n and the shift velocity u_ps.
     fn kinematics(&mut self, dt: f64) {
         let (st, s, kernel) = (&mut self.stages, &mut self.state, &self.kernel);
-        let buffer = buffer_flags(&self.inflow);
         self.timers.time(Stage::Kinematics, || {
             let hood = st.hood.parts();
             let Hood { list, sums, ghosts } = hood;
-            if let Some(fs) = st.free_surface.as_mut() {
-                fs.detect(hood, &st.hood.points, kernel, buffer);
-            }
+            st.features.detect(hood, &st.hood.points, kernel);
             st.kinematics.update(hood, &s.velocity);
             if let Some(v) = st.shear_viscosity.as_mut() {
                 v.update(&st.kinematics.grad_u, ghosts);
@@ -553,13 +626,11 @@ impl Simulation {
                 dt,
                 points: &st.hood.points,
                 walls: &ghosts.walls,
-                surface: st.free_surface.as_ref().map(|fs| &fs.surface),
+                surface: st.features.surface(),
             };
             st.shifting
                 .compute(&inputs, &s.velocity, &mut s.shift_velocity);
-            if let Some(inflow) = self.inflow.as_ref() {
-                inflow.prescribe(&mut s.shift_velocity, Vec2::zeros());
-            }
+            st.features.hold_shift(&mut s.shift_velocity);
         });
     }
 
@@ -605,11 +676,14 @@ impl Simulation {
         self.timers.time(Stage::Predictor, || {
             let hood = st.hood.parts();
             let grad_u = &st.kinematics.grad_u;
-            let surface_force = match (st.cohesion.as_mut(), st.free_surface.as_mut()) {
-                (Some(c), _) => Some(c.accelerations(domain, &st.hood.points[..n])),
-                (None, Some(fs)) => fs.shear_free_accelerations(hood, grad_u, st.nu, factor),
-                (None, None) => None,
-            };
+            let surface_force = st.features.surface_force(SurfaceForceInputs {
+                hood,
+                grad_u,
+                nu: st.nu,
+                factor,
+                domain,
+                points: &st.hood.points[..n],
+            });
             let inputs = MomentumInputs {
                 hood,
                 kernel,
@@ -636,8 +710,6 @@ impl Simulation {
             };
             predict(&terms, &s.velocity, dt, &mut st.velocity_star);
         });
-        let buffer = buffer_flags(&self.inflow);
-        let prescribed = self.inflow.as_ref().map_or(Vec2::zeros(), |b| b.velocity);
         let nu_dt = st.nu * dt;
         let preconditioner = self.scheme.ppe.preconditioner.resolve();
         let reports = self
@@ -648,10 +720,7 @@ impl Simulation {
                     Diffusion { nu_dt, factor },
                     &s.velocity,
                     &mut st.velocity_star,
-                    Prescribed {
-                        rows: buffer,
-                        value: prescribed,
-                    },
+                    st.features.prescribed(),
                     preconditioner,
                 )
             })
@@ -667,15 +736,13 @@ impl Simulation {
         let factor = st.shear_viscosity.as_ref().map_or(&[][..], |v| v.factor());
         st.integrator.correct(Correction {
             hood: &st.hood,
-            free_surface: st.free_surface.as_mut(),
-            detached: st.detached.as_mut(),
+            features: &mut st.features,
             viscosity_factor: factor,
             velocity_star: &mut st.velocity_star,
             state: &mut self.state,
             fluid: &self.fluid,
             kernel: &self.kernel,
             domain: &self.domain,
-            inflow: self.inflow.as_ref(),
             frame: self.scheme.frame,
             gravity: self.scheme.gravity,
             scales: &self.scales,
@@ -688,7 +755,7 @@ impl Simulation {
     /// Step 7: r^{n+1}, eq. (27); u^{n+1} becomes the state; an inflow feeds new particles.
     fn final_positions(&mut self, dt: f64) {
         let (st, s) = (&mut self.stages, &mut self.state);
-        let (frame, domain, inflow) = (self.scheme.frame, &self.domain, &mut self.inflow);
+        let (frame, domain) = (self.scheme.frame, &self.domain);
         let rest = self.fluid.model.rest_conformation();
         self.timers.time(Stage::Advection, || {
             frame.advance_positions(
@@ -702,9 +769,7 @@ impl Simulation {
                 dt,
             );
             std::mem::swap(&mut s.velocity, &mut st.velocity_star);
-            if let Some(inflow) = inflow.as_mut() {
-                inflow.feed(rest, dt, s);
-            }
+            st.features.feed(rest, dt, s);
         });
     }
 
@@ -721,9 +786,9 @@ impl Simulation {
     }
 
     /// Polymer stress τ_p at n−1/2 for every particle (zero for Newtonian).
-    pub fn polymer_stress(&self) -> Vec<Sym2> {
+    pub fn polymer_stress(&self) -> Vec<Sym<D>> {
         if !self.fluid.model.is_viscoelastic() {
-            return vec![Sym2::ZERO; self.particles()];
+            return vec![Sym::<D>::ZERO; self.particles()];
         }
         self.state
             .conformation
@@ -745,15 +810,13 @@ impl Simulation {
             + st.hood.heap_bytes()
             + st.kinematics.heap_bytes()
             + st.shifting.heap_bytes()
-            + st.free_surface.as_ref().map_or(0, |f| f.heap_bytes())
+            + st.features.heap_bytes()
             + st.conformation.as_ref().map_or(0, |c| c.heap_bytes())
             + st.hourglass
                 .as_ref()
                 .map_or(0, HourglassControl::heap_bytes)
             + st.viscous.heap_bytes()
             + st.shear_viscosity.as_ref().map_or(0, |v| v.heap_bytes())
-            + st.cohesion.as_ref().map_or(0, Cohesion::heap_bytes)
-            + st.detached.as_ref().map_or(0, DetachedBodies::heap_bytes)
             + b(&st.velocity_star)
             + st.integrator.heap_bytes()
     }
@@ -798,10 +861,18 @@ impl Simulation {
         self.stages.integrator.nnz()
     }
 
+    /// The solid walls that create mirror particles.
+    pub fn walls(&self) -> &[Wall<D>] {
+        &self.stages.hood.ghosts.walls
+    }
+}
+
+impl Simulation<2> {
     /// The free-surface sets and normals of the last step (free-surface scenes after their
     /// first step; None otherwise).
     pub fn surface(&self) -> Option<&FreeSurface> {
         self.stages
+            .features
             .free_surface
             .as_ref()
             .map(|fs| &fs.surface)
@@ -812,6 +883,7 @@ impl Simulation {
     /// ([`FreeSurfaceStage::hold_off_walls`]).
     pub fn surface_wall_holds(&self) -> u64 {
         self.stages
+            .features
             .free_surface
             .as_ref()
             .map_or(0, |fs| fs.wall_holds)
@@ -821,6 +893,7 @@ impl Simulation {
     /// velocity one correction removed from a particle ([`DetachedBodies`]; zeros without).
     pub fn detached_corrections(&self) -> (u64, f64) {
         self.stages
+            .features
             .detached
             .as_ref()
             .map_or((0, 0.0), |d| (d.body_steps, d.largest_correction))
@@ -839,12 +912,12 @@ impl Simulation {
 
     /// The rigid discs (V^n, Ω^n, c^n) and the loads of the last step.
     pub fn bodies(&self) -> &Bodies {
-        &self.stages.bodies
+        &self.stages.features.bodies
     }
 
     /// Sets the discs' motion (a checkpoint's), in order.
     pub fn restore_discs(&mut self, discs: &[DiscMotion]) {
-        for (d, m) in self.stages.bodies.discs.iter_mut().zip(discs) {
+        for (d, m) in self.stages.features.bodies.discs.iter_mut().zip(discs) {
             d.set_motion(m);
         }
     }
@@ -854,10 +927,11 @@ impl Simulation {
     /// Refused, with the reason, for a disc the fluid moves (free or free-rotation: their
     /// motion is the result) and in the Eulerian frame, whose mirrors are built once.
     pub fn set_disc_motion(&mut self, k: usize, velocity: Vec2, spin: f64) -> Result<(), String> {
-        let count = self.stages.bodies.discs.len();
+        let count = self.stages.features.bodies.discs.len();
         let moving_frame = self.scheme.frame.moves_particles();
         let disc = self
             .stages
+            .features
             .bodies
             .discs
             .get_mut(k)
@@ -881,11 +955,43 @@ impl Simulation {
         disc.spin = spin;
         Ok(())
     }
+}
 
-    /// The solid walls that create mirror particles.
-    pub fn walls(&self) -> &[crate::engine::boundary::Wall] {
-        &self.stages.hood.ghosts.walls
-    }
+/// The first setting of `scheme` that only the plane has, by its key (None: all run in 3D).
+/// The weakly compressible scheme, volume relaxation, the second-order operators (their 3D
+/// moment systems are not written) and the fixed ghost lattice are 2D.
+pub fn plane_only(scheme: &Scheme) -> Option<&'static str> {
+    use crate::engine::boundary::WallModel;
+    use crate::engine::operators::{GradientOrder, LaplacianOrder, PpeLaplacian};
+    let o = &scheme.operators;
+    [
+        (
+            scheme.method != Method::Projection,
+            "scheme.method = \"wcsph\"",
+        ),
+        (
+            scheme.ppe.volume_relaxation > 0.0,
+            "experimental.volume_relaxation",
+        ),
+        (
+            o.gradient_order != GradientOrder::First,
+            "scheme.operators.gradient = \"second\"",
+        ),
+        (
+            o.laplacian_order != LaplacianOrder::First,
+            "scheme.operators.laplacian = \"second\"",
+        ),
+        (
+            o.ppe_laplacian != PpeLaplacian::Standard,
+            "experimental.ppe_laplacian",
+        ),
+        (
+            scheme.wall_model == WallModel::FixedGhost,
+            "scheme.walls.model = \"fixed-ghost\"",
+        ),
+    ]
+    .into_iter()
+    .find_map(|(refused, key)| refused.then_some(key))
 }
 
 /// Steps 5–6 as `scheme.method` chooses.
@@ -896,18 +1002,7 @@ fn integrator(
     spacing: f64,
 ) -> Box<dyn Integrator> {
     match scheme.method {
-        Method::Projection => Box::new(ProjectionMethod::new(
-            ProjectionStage::new(
-                scheme.projection,
-                PressureStabilisation::new(fluid.density, fluid.viscosity, kernel.h()),
-            ),
-            PressureStage::new(
-                scheme.ppe,
-                scheme.frame,
-                VolumeRelaxation::new(scheme.ppe.volume_relaxation, kernel, spacing),
-            ),
-            scheme.ppe,
-        )),
+        Method::Projection => projection_method(scheme, fluid, kernel, spacing),
         Method::WeaklyCompressible(w) => Box::new(WeakMethod::new(WeakStage::new(
             w,
             fluid.density,
@@ -917,14 +1012,41 @@ fn integrator(
     }
 }
 
+/// King & Lind's projection, Steps 5–6.
+fn projection_method<const D: usize>(
+    scheme: &Scheme,
+    fluid: &Fluid,
+    kernel: &QuinticSpline,
+    spacing: f64,
+) -> Box<dyn Integrator<D>>
+where
+    Dim<D>: StepDimension<D>,
+{
+    Box::new(ProjectionMethod::new(
+        ProjectionStage::new(
+            scheme.projection,
+            PressureStabilisation::new(fluid.density, fluid.viscosity, kernel.h()),
+        ),
+        PressureStage::new(
+            scheme.ppe,
+            scheme.frame,
+            VolumeRelaxation::new(scheme.ppe.volume_relaxation, kernel, spacing),
+        ),
+        scheme.ppe,
+    ))
+}
+
 /// Step 2's shift rule; under a contact model for gaps narrower than the support it keeps
 /// particles from shifting into walls within δr/2 ([`Shifting::keep_off_walls`]).
-fn shifting(
+fn shifting<const D: usize>(
     scheme: &Scheme,
     free_surface: bool,
     contact: Option<Contact>,
     spacing: f64,
-) -> Shifting {
+) -> Shifting<D>
+where
+    Dim<D>: Dimension<D>,
+{
     let rule = ShiftRule::new(
         scheme.frame,
         scheme.shifting,
@@ -936,9 +1058,4 @@ fn shifting(
         Some(c) if c.closes_gaps() => shifting.keep_off_walls(0.5 * spacing),
         _ => shifting,
     }
-}
-
-/// The inflow buffer's membership flags (empty without an inflow).
-fn buffer_flags(inflow: &Option<Inflow>) -> &[bool] {
-    inflow.as_ref().map_or(&[], |b| &b.flags)
 }

@@ -21,8 +21,9 @@
 
 pub mod artificial;
 
+use crate::engine::dimension::{Dim, Dimension, Matrix, Sym, Vector};
 use crate::engine::kernel::QuinticSpline;
-use crate::engine::math::{Mat2, Sym2, Vec2};
+use crate::engine::math::{Sym2, Vec2};
 use crate::engine::neighbourhood::Hood;
 use crate::engine::rheology::Fluid;
 use crate::engine::settings::{in_range, positive, Invalid};
@@ -207,17 +208,20 @@ pub struct WeakStage {
 }
 
 /// What the momentum sum reads.
-pub struct MomentumInputs<'a> {
-    pub hood: Hood<'a>,
+pub struct MomentumInputs<'a, const D: usize = 2>
+where
+    Dim<D>: Dimension<D>,
+{
+    pub hood: Hood<'a, D>,
     pub kernel: &'a QuinticSpline,
     pub pressure: &'a [f64],
     /// u^n extended to the ghosts.
-    pub velocity_ext: &'a [Vec2],
+    pub velocity_ext: &'a [Vector<D>],
     /// A^{n+½} per fluid particle (empty for a Newtonian fluid) and the fluid, for τ_p.
-    pub conformation: &'a [Sym2],
+    pub conformation: &'a [Sym<D>],
     pub fluid: &'a Fluid,
     /// ∇u^n, for the solvent stress 2η_s D in the artificial stress's total stress.
-    pub grad_u: &'a [Mat2],
+    pub grad_u: &'a [Matrix<D>],
 }
 
 impl WeakStage {

@@ -13,6 +13,7 @@ use crate::analysis::diagnostics::centre_line_velocity;
 use crate::analysis::reference::Reference;
 use crate::engine::bodies::contact::Contact;
 use crate::engine::boundary::{Circle, Plane, Shape, Wall};
+use crate::engine::dimension::Vector;
 use crate::engine::drive::Drive;
 use crate::engine::lattice::lattice;
 use crate::engine::math::Vec2;
@@ -20,7 +21,7 @@ use crate::engine::neighbours::Domain;
 use crate::engine::resolution::Resolution;
 use crate::engine::rheology::Fluid;
 use crate::engine::scheme::Scheme;
-use crate::engine::step::{Scales, Setup};
+use crate::engine::step::{FlowSetup, Scales, Setup};
 use crate::setup::error::{field_err, positive, FieldError};
 use serde::{Deserialize, Serialize};
 
@@ -398,6 +399,20 @@ impl Channel {
     }
 
     /// [`Self::positions`] at one spacing.
+    /// A constant body force, or one that holds `mean_flow`.
+    fn drive(&self, fluid: &Fluid) -> Drive {
+        match self.mean_flow {
+            None => Drive::Constant,
+            Some(u) => Drive::mean_flow(
+                u,
+                self.body_force.x,
+                fluid.density,
+                fluid.viscosity,
+                self.bounds.height,
+            ),
+        }
+    }
+
     fn uniform_positions(&self) -> Vec<Vec2> {
         let dr = self.spacing();
         let domain = self.domain();
@@ -523,16 +538,7 @@ impl Scene for Channel {
             fluid: *fluid,
             scheme: *scheme,
             body_force: self.body_force,
-            drive: match self.mean_flow {
-                None => Drive::Constant,
-                Some(u) => Drive::mean_flow(
-                    u,
-                    self.body_force.x,
-                    fluid.density,
-                    fluid.viscosity,
-                    self.bounds.height,
-                ),
-            },
+            drive: self.drive(fluid),
             scales,
             free_surface: false,
             inflow: None,
@@ -542,6 +548,76 @@ impl Scene for Channel {
             contact_angle: None,
             resolution,
         }
+    }
+
+    /// Plates at y = 0 and H (or none: periodic in y), periodic along x and z, on a cubic
+    /// lattice: the flow does not vary along z, so a depth of three kernel supports (the
+    /// least a periodic axis takes) suffices. Cylinders, discs and graded resolution are 2D.
+    fn build_in_space(
+        &self,
+        fluid: &Fluid,
+        scheme: &Scheme,
+        scales: Scales,
+        depth: f64,
+    ) -> Result<FlowSetup<3>, String> {
+        let refused = [
+            (self.cylinder.is_some(), "scene.cylinder"),
+            (!self.discs.is_empty(), "scene.discs"),
+            (self.gravity != Vec2::zeros(), "scene.gravity"),
+            (self.refine > 1.0, "scene.refine_walls"),
+        ];
+        if let Some((_, key)) = refused.iter().find(|(r, _)| *r) {
+            return Err(format!("{key} is written for 2D scenes only"));
+        }
+        let dr = self.spacing();
+        let layers = check_periodic_length(depth, self.bounds.height, self.bounds.resolution)
+            .map_err(|(_, why)| format!("the depth: {why}"))?;
+        let counts = [self.columns, self.bounds.resolution, layers];
+        let n: usize = counts.iter().product();
+        let positions: Vec<Vector<3>> = (0..n)
+            .map(|k| {
+                let index = [
+                    k % counts[0],
+                    (k / counts[0]) % counts[1],
+                    k / (counts[0] * counts[1]),
+                ];
+                Vector::<3>::from_fn(|a, _| (index[a] as f64 + 0.5) * dr)
+            })
+            .collect();
+        let plate = |position, fluid_side, u: f64| {
+            let plane = Plane {
+                axis: 1,
+                position,
+                fluid_side,
+            };
+            let velocity = Vector::<3>::new(u, 0.0, 0.0);
+            Wall::sliding(Shape::Plane(plane), scheme.wall_conformation, velocity)
+        };
+        let walls = if self.walls {
+            vec![
+                plate(0.0, 1.0, self.wall_velocity[0]),
+                plate(self.bounds.height, -1.0, self.wall_velocity[1]),
+            ]
+        } else {
+            Vec::new()
+        };
+        let g = self.body_force;
+        Ok(FlowSetup {
+            domain: Domain {
+                min: Vector::<3>::zeros(),
+                max: Vector::<3>::new(self.bounds.length, self.bounds.height, depth),
+                periodic: [true, !self.walls, true],
+            },
+            walls,
+            velocity: vec![Vector::<3>::zeros(); n],
+            positions,
+            spacing: dr,
+            fluid: *fluid,
+            scheme: *scheme,
+            body_force: Vector::<3>::new(g.x, g.y, 0.0),
+            drive: self.drive(fluid),
+            scales,
+        })
     }
 
     fn reference(&self, fluid: &Fluid) -> Result<Reference, String> {

@@ -23,7 +23,7 @@ use crate::engine::neighbours::Domain;
 use crate::engine::reduce::blocked_sum;
 use crate::engine::rheology::Fluid;
 use crate::engine::scheme::Scheme;
-use crate::engine::step::{Scales, Setup};
+use crate::engine::step::{FlowSetup, Scales, Setup};
 use crate::setup::error::{field_err, in_range, positive, read_table, FieldError};
 use serde::{Deserialize, Serialize};
 use std::fmt;
@@ -158,6 +158,19 @@ pub trait Scene: fmt::Debug + Send + Sync {
     }
     /// The engine's initial state.
     fn build(&self, fluid: &Fluid, scheme: &Scheme, scales: Scales) -> Setup;
+    /// The scene in space, `depth` deep along z (periodic), for [`Simulation::in_space`];
+    /// refused, naming what is 2D only, where the scene is not written in 3D.
+    ///
+    /// [`Simulation::in_space`]: crate::engine::step::Simulation::in_space
+    fn build_in_space(
+        &self,
+        _fluid: &Fluid,
+        _scheme: &Scheme,
+        _scales: Scales,
+        _depth: f64,
+    ) -> Result<FlowSetup<3>, String> {
+        Err(format!("scene.kind = \"{}\" is 2D only", self.kind()))
+    }
     /// The analytic reference of the flow, or why there is none.
     fn reference(&self, fluid: &Fluid) -> Result<Reference, String>;
     /// The velocity `series.csv` tracks (`u_centre`) and its name for charts (title, axis).

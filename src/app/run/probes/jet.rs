@@ -73,7 +73,7 @@ impl JetProbe {
     fn record_state(&mut self, sim: &Simulation) {
         let d = self.width;
         let s = &sim.state;
-        let buffer = sim.inflow.as_ref().map(|b| b.flags.as_slice());
+        let buffer = sim.inflow().map(|b| b.flags.as_slice());
         let fluid = |i: &usize| buffer.is_none_or(|b| !b[*i]);
         let tip = (0..s.position.len())
             .filter(fluid)
