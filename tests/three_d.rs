@@ -250,12 +250,13 @@ fn the_3d_conformation_stage_matches_the_2d_one_on_channel_flow() {
 }
 
 /// The shipped start-up Poiseuille case (Oldroyd-B, Re = Wi = 1, β = 0.1, the paper's
-/// explicit viscosity) at H/δr = `resolution`, 12δr long so that H/δr = 10 holds the three
-/// supports a periodic axis needs.
-fn poiseuille(resolution: usize, end_time: f64) -> rheosph::setup::case::Case {
+/// explicit viscosity) in `dimension` at H/δr = `resolution`, at least 12δr long so that
+/// H/δr = 10 holds the three supports a periodic axis needs (in 3D as deep, the default).
+fn poiseuille(dimension: usize, resolution: usize, end_time: f64) -> rheosph::setup::case::Case {
     let text = std::fs::read_to_string("cases/poiseuille.toml").unwrap();
     let length = 12.0 / resolution as f64;
     let overrides = [
+        format!("scene.dimension={dimension}"),
         format!("scene.resolution={resolution}"),
         format!("scene.length={}", length.max(1.0)),
         format!("run.end_time={end_time}"),
@@ -311,12 +312,11 @@ where
 #[test]
 fn the_3d_channel_follows_waters_king_as_the_2d_one_does() {
     let (every, end) = (0.25, 2.0);
-    let case = poiseuille(10, end);
+    let case = poiseuille(2, 10, end);
     let mut reference = case.scene.reference(&case.fluid).unwrap();
     let mut plane = rheosph::engine::step::Simulation::new(case.setup());
     let (errors_2d, det_2d) = channel_errors(&mut plane, &mut reference, every, end);
-    let depth = 12.0 * case.scene.spacing();
-    let setup = case.setup_in_space(depth).unwrap();
+    let setup = poiseuille(3, 10, end).setup_in_space().unwrap();
     let mut space = rheosph::engine::step::Simulation::in_space(setup).unwrap();
     let (errors_3d, det_3d) = channel_errors(&mut space, &mut reference, every, end);
     let mean = |e: &[f64]| e.iter().sum::<f64>() / e.len() as f64;
@@ -325,4 +325,48 @@ fn the_3d_channel_follows_waters_king_as_the_2d_one_does() {
     assert_eq!(errors_3d.len(), errors_2d.len());
     assert!(l2_3d < 1.25 * l2_2d, "3D L2 {l2_3d:e}, 2D {l2_2d:e}");
     assert!(det_3d > 1.0 - 1e-9, "min det A = {det_3d}");
+}
+
+/// A case in space refuses, by key, what is written for the plane only, and a 2D entry
+/// point refuses a 3D case instead of running it flat.
+#[test]
+fn a_3d_case_names_what_it_cannot_have() {
+    let text = std::fs::read_to_string("cases/poiseuille.toml").unwrap();
+    let parse = |extra: &[&str]| {
+        let mut overrides = vec!["scene.dimension=3".to_string()];
+        overrides.extend(extra.iter().map(|s| s.to_string()));
+        rheosph::setup::case::parse(&text, "poiseuille.toml", "p", &overrides)
+    };
+    let refused = |extra: &[&str], field: &str| {
+        let e = parse(extra).expect_err("refused");
+        assert_eq!(e.field, field, "{e}");
+    };
+    refused(&["scheme.method=\"wcsph\""], "scheme.method");
+    refused(
+        &["scheme.operators.laplacian=\"second\""],
+        "scheme.operators.laplacian",
+    );
+    refused(&["scene.refine_walls=2.0"], "scene.refine_walls");
+    refused(&["scene.depth=0.2"], "scene.depth");
+    refused(&["scene.dimension=4"], "scene.dimension");
+    let drop = std::fs::read_to_string("cases/drop-impact.toml").unwrap();
+    let e = rheosph::setup::case::parse(&drop, "d", "d", &["scene.dimension=3".into()]).err();
+    assert_eq!(e.expect("refused").field, "scene.dimension");
+    let flat = rheosph::setup::case::parse(&text, "p", "p", &["scene.depth=1.0".into()]).err();
+    assert_eq!(flat.expect("refused").field, "scene.depth");
+    let case = parse(&[]).unwrap();
+    let options = rheosph::app::run::RunOptions {
+        out_dir: std::env::temp_dir().join("rheosph-3d-refused"),
+        quiet: true,
+        charts: None,
+        snapshots: false,
+        progress: None,
+    };
+    let start = rheosph::app::run::run_loop::Start::Fresh;
+    let two_d = rheosph::app::run::run_loop::Run::<2>::new(&case, &options, start);
+    assert!(two_d
+        .err()
+        .unwrap()
+        .to_string()
+        .contains("scene.dimension = 3"));
 }

@@ -1,6 +1,6 @@
 //! Run diagnostics: L2 errors, centre-line velocity, field statistics.
 
-use crate::engine::math::{Sym2, Vec2};
+use crate::engine::dimension::{Dim, Dimension, Sym, SymTensor, Vector};
 use rayon::prelude::*;
 
 pub use crate::engine::reduce::blocked_sum;
@@ -8,9 +8,9 @@ pub use crate::engine::reduce::blocked_sum;
 /// Centre-line velocity: a least-squares quadratic u(y) through the particles within 2.5δr
 /// of the centre-line, evaluated at y = H/2. Unbiased for the parabolic profile, unlike the
 /// mean of the two nearest rows (which sit δr/2 off the centre-line).
-pub fn centre_line_velocity(
-    positions: &[Vec2],
-    velocity: &[Vec2],
+pub fn centre_line_velocity<const D: usize>(
+    positions: &[Vector<D>],
+    velocity: &[Vector<D>],
     centre: f64,
     spacing: f64,
 ) -> f64 {
@@ -19,12 +19,12 @@ pub fn centre_line_velocity(
     let mut m = [[0.0f64; 3]; 3];
     let mut rhs = [0.0f64; 3];
     for (p, u) in positions.iter().zip(velocity) {
-        let d = p.y - centre;
+        let d = p[1] - centre;
         if d.abs() <= band {
             let s = d / spacing;
             let basis = [1.0, s, s * s];
             for a in 0..3 {
-                rhs[a] += basis[a] * u.x;
+                rhs[a] += basis[a] * u[0];
                 for b in 0..3 {
                     m[a][b] += basis[a] * basis[b];
                 }
@@ -44,18 +44,21 @@ pub struct FieldStats {
     /// Σ ½ρ|u|² δV.
     pub kinetic_energy: f64,
     pub max_speed: f64,
-    /// Largest tr A (1 at rest; 2 for a Newtonian fluid, which has no A).
+    /// Largest tr A (D at rest, and for a Newtonian fluid, which has no A).
     pub max_trace: f64,
     /// Smallest det A (≥ 1 for Oldroyd-B in shear; must stay > 0).
     pub min_det: f64,
 }
 
-pub fn field_stats(
-    velocity: &[Vec2],
-    conformation: &[Sym2],
+pub fn field_stats<const D: usize>(
+    velocity: &[Vector<D>],
+    conformation: &[Sym<D>],
     density: f64,
     volume: f64,
-) -> FieldStats {
+) -> FieldStats
+where
+    Dim<D>: Dimension<D>,
+{
     let kinetic_energy =
         0.5 * density * volume * blocked_sum(velocity.len(), |i| velocity[i].norm_squared());
     let max_speed = velocity
@@ -63,7 +66,7 @@ pub fn field_stats(
         .map(|u| u.norm())
         .reduce(|| 0.0, f64::max);
     let (max_trace, min_det) = if conformation.is_empty() {
-        (2.0, 1.0)
+        (D as f64, 1.0)
     } else {
         (
             conformation
@@ -87,21 +90,36 @@ pub fn field_stats(
 /// Where det A is smallest: the position of the first particle holding the minimum (NaN
 /// without a conformation). Tells a breakdown's place, e.g. the first particle layer at a
 /// wall.
-pub fn min_det_location(position: &[Vec2], conformation: &[Sym2]) -> Vec2 {
+pub fn min_det_location<const D: usize>(
+    position: &[Vector<D>],
+    conformation: &[Sym<D>],
+) -> Vector<D>
+where
+    Dim<D>: Dimension<D>,
+{
     extreme_location(position, conformation, |a| a.det())
 }
 
 /// Where tr A is largest, in the same way: where the polymer is stretched most.
-pub fn max_trace_location(position: &[Vec2], conformation: &[Sym2]) -> Vec2 {
+pub fn max_trace_location<const D: usize>(
+    position: &[Vector<D>],
+    conformation: &[Sym<D>],
+) -> Vector<D>
+where
+    Dim<D>: Dimension<D>,
+{
     extreme_location(position, conformation, |a| -a.trace())
 }
 
 /// The position of the particle where `key` of its conformation is smallest.
-fn extreme_location(
-    position: &[Vec2],
-    conformation: &[Sym2],
-    key: impl Fn(&Sym2) -> f64 + Sync,
-) -> Vec2 {
+fn extreme_location<const D: usize>(
+    position: &[Vector<D>],
+    conformation: &[Sym<D>],
+    key: impl Fn(&Sym<D>) -> f64 + Sync,
+) -> Vector<D>
+where
+    Dim<D>: Dimension<D>,
+{
     let best = conformation
         .par_iter()
         .enumerate()
@@ -119,7 +137,7 @@ fn extreme_location(
     position
         .get(best.1)
         .copied()
-        .unwrap_or(Vec2::new(f64::NAN, f64::NAN))
+        .unwrap_or(Vector::<D>::repeat(f64::NAN))
 }
 
 /// Particle-scale noise of the conformation: the median over fluid particles of
@@ -129,18 +147,21 @@ fn extreme_location(
 /// central remap it grows without bound at Wi ≥ 4 in the cylinder array and saturates with
 /// the upwind one (validation pages, *High Weissenberg number*). NaN without a conformation (Newtonian
 /// fluids) and 0 when no particle has a neighbour.
-pub fn conformation_noise(
-    domain: &crate::engine::neighbours::Domain,
-    position: &[Vec2],
-    conformation: &[Sym2],
+pub fn conformation_noise<const D: usize>(
+    domain: &crate::engine::neighbours::Domain<D>,
+    position: &[Vector<D>],
+    conformation: &[Sym<D>],
     spacing: f64,
-) -> f64 {
+) -> f64
+where
+    Dim<D>: Dimension<D>,
+{
     use crate::engine::kernel::QuinticSpline;
     use crate::engine::neighbours::{NeighbourList, NeighbourSearch};
     if conformation.len() != position.len() || position.is_empty() {
         return f64::NAN; // a Newtonian or generalised Newtonian fluid carries no conformation
     }
-    let kernel = QuinticSpline::for_spacing(spacing);
+    let kernel = QuinticSpline::in_dimension::<D>(crate::engine::kernel::H_OVER_DR * spacing);
     let n = position.len();
     let mut list = NeighbourList::default();
     NeighbourSearch::new().build(domain, position, n, kernel.support(), &mut list);
@@ -169,6 +190,7 @@ pub fn conformation_noise(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::engine::math::{Sym2, Vec2};
 
     #[test]
     fn centre_line_fit_is_exact_for_a_parabola() {

@@ -6,5 +6,6 @@ pub mod centreline;
 pub mod diagnostics;
 pub mod forces;
 pub mod grid;
+pub mod plane;
 pub mod reference;
 pub mod rheometry;

@@ -74,12 +74,12 @@ impl Case {
         self.scene.build(&self.fluid, &self.scheme, self.scales())
     }
 
-    /// The case's scene in space, `depth` deep along z ([`Scene::build_in_space`]).
+    /// The case's scene in space ([`Scene::build_in_space`]).
     ///
     /// [`Scene::build_in_space`]: crate::setup::scenes::Scene::build_in_space
-    pub fn setup_in_space(&self, depth: f64) -> Result<FlowSetup<3>, String> {
+    pub fn setup_in_space(&self) -> Result<FlowSetup<3>, String> {
         self.scene
-            .build_in_space(&self.fluid, &self.scheme, self.scales(), depth)
+            .build_in_space(&self.fluid, &self.scheme, self.scales())
     }
 
     fn scales(&self) -> Scales {
@@ -205,6 +205,9 @@ pub fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
         ));
     }
     let run = run(&raw.run, scene.as_ref(), fluid.relaxation_time)?;
+    if scene.dimension() == 3 {
+        in_space(&scheme, run.grid_spacing)?;
+    }
     Ok(Case {
         name: name.to_string(),
         scene,
@@ -218,6 +221,23 @@ pub fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
         steady: run.steady,
         source: raw,
     })
+}
+
+/// What a case in space (`scene.dimension = 3`) may not ask for: the scheme's 2D-only
+/// settings ([`crate::engine::step::plane_only`]) and grid snapshots.
+fn in_space(scheme: &Scheme, grid_spacing: Option<f64>) -> Result<(), FieldError> {
+    let why = "is written for 2D scenes only (scene.dimension = 3)";
+    if let Some(key) = crate::engine::step::plane_only(scheme) {
+        let field = key.split(' ').next().unwrap_or(key);
+        return Err(field_err(field, format!("`{key}` {why}")));
+    }
+    if grid_spacing.is_some() {
+        return Err(field_err(
+            "run.grid_spacing",
+            format!("grid snapshots (.vti) {why}; the particles' .vtu are written"),
+        ));
+    }
+    Ok(())
 }
 
 /// `scheme` with the `[experimental]` variants it sets put into their stages' tables.

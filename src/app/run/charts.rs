@@ -7,7 +7,8 @@ use crate::analysis::reference::Reference;
 use crate::app::io::SeriesRow;
 use crate::app::plot::FigureFormat;
 use crate::app::plot::{self, Chart, Curve, CurveStyle, PALETTE};
-use crate::engine::step::Simulation;
+use crate::engine::dimension::{Dim, Sym, SymTensor};
+use crate::engine::step::{Simulation, StepDimension};
 use crate::setup::scenes::Scene;
 use anyhow::Result;
 use std::path::Path;
@@ -22,15 +23,18 @@ fn analytic(points: Vec<(f64, f64)>) -> Curve {
 }
 
 /// Draws every chart of the run directory.
-pub fn draw(
+pub fn draw<const D: usize>(
     dir: &Path,
     format: FigureFormat,
     scene: &dyn Scene,
-    sim: &Simulation,
+    sim: &Simulation<D>,
     reference: Option<&Reference>,
     rows: &[SeriesRow],
     stresses: Option<&ExactStresses>,
-) -> Result<()> {
+) -> Result<()>
+where
+    Dim<D>: StepDimension<D>,
+{
     let (title, axis) = scene.characteristic_name();
     let mut curves = vec![Curve {
         label: "rheosph".into(),
@@ -92,15 +96,18 @@ pub fn draw(
 }
 
 /// Final profiles across the channel: every particle against the analytic line.
-fn profiles(
+fn profiles<const D: usize>(
     dir: &Path,
     format: FigureFormat,
-    sim: &Simulation,
+    sim: &Simulation<D>,
     reference: Option<&Reference>,
     stresses: Option<&ExactStresses>,
-) -> Result<()> {
+) -> Result<()>
+where
+    Dim<D>: StepDimension<D>,
+{
     let s = &sim.state;
-    let height = sim.domain.max.y - sim.domain.min.y;
+    let height = sim.domain.max[1] - sim.domain.min[1];
     let profile =
         |name: &str, label: &str, numeric: Vec<(f64, f64)>, exact: Option<Vec<(f64, f64)>>| {
             let mut curves = Vec::new();
@@ -138,7 +145,7 @@ fn profiles(
         s.position
             .iter()
             .zip(&s.velocity)
-            .map(|(p, u)| (p.y, u.x))
+            .map(|(p, u)| (p[1], u[0]))
             .collect(),
         exact_u,
     )?;
@@ -155,30 +162,30 @@ fn profiles(
                 .collect()
         })
     };
-    let numeric = |f: fn(&crate::engine::math::Sym2) -> f64| -> Vec<(f64, f64)> {
+    let numeric = |f: fn(&Sym<D>) -> f64| -> Vec<(f64, f64)> {
         s.position
             .iter()
             .zip(&tau)
-            .map(|(p, t)| (p.y, f(t)))
+            .map(|(p, t)| (p[1], f(t)))
             .collect()
     };
     profile(
         "profile_tau_xy.png",
         "tau_p,xy",
-        numeric(|t| t.xy),
+        numeric(|t| t.entry(0, 1)),
         exact(|e| &e.profiles.xy),
     )?;
     profile(
         "profile_tau_xx.png",
         "tau_p,xx",
-        numeric(|t| t.xx),
+        numeric(|t| t.entry(0, 0)),
         exact(|e| &e.profiles.xx),
     )?;
     if matches!(sim.fluid.model, crate::engine::rheology::Model::Giesekus(_)) {
         profile(
             "profile_tau_yy.png",
             "tau_p,yy",
-            numeric(|t| t.yy),
+            numeric(|t| t.entry(1, 1)),
             exact(|e| &e.profiles.yy),
         )?;
     }

@@ -1,9 +1,11 @@
 //! Errors of a finished run against its analytic reference.
 
+use crate::analysis::plane::InPlane;
 use crate::analysis::reference::{Reference, StressProfiles};
 use crate::app::io::SeriesRow;
 use crate::app::table::{self, fmt};
-use crate::engine::step::Simulation;
+use crate::engine::dimension::{Dim, SymTensor};
+use crate::engine::step::{Simulation, StepDimension};
 use serde::{Deserialize, Serialize};
 
 /// The analytic comparison at the first overshoot of the centre-line velocity.
@@ -61,12 +63,19 @@ pub struct ExactStresses {
 }
 
 impl ExactStresses {
-    pub fn at_stress_time(sim: &Simulation, reference: &Reference, dt: f64) -> Option<Self> {
+    pub fn at_stress_time<const D: usize>(
+        sim: &Simulation<D>,
+        reference: &Reference,
+        dt: f64,
+    ) -> Option<Self>
+    where
+        Dim<D>: StepDimension<D>,
+    {
         if !sim.fluid.model.is_viscoelastic() || !reference.is_channel() {
             return None;
         }
         let t = (sim.state.time - 0.5 * dt).max(0.0);
-        let height = sim.domain.max.y - sim.domain.min.y;
+        let height = sim.domain.max[1] - sim.domain.min[1];
         let grid: Vec<f64> = (0..=100).map(|k| height * k as f64 / 100.0).collect();
         let profiles = reference.stress_profiles(&grid, t).ok()?;
         Some(Self { grid, profiles })
@@ -81,12 +90,15 @@ impl ExactStresses {
     }
 
     /// Relative L2 errors of τ_xy, τ_xx, τ_yy over the particles.
-    fn relative_errors(&self, sim: &Simulation) -> [Option<f64>; 3] {
+    fn relative_errors<const D: usize>(&self, sim: &Simulation<D>) -> [Option<f64>; 3]
+    where
+        Dim<D>: StepDimension<D>,
+    {
         let tau = sim.polymer_stress();
         let norm = |num: &dyn Fn(usize) -> f64, exact: &[f64]| {
             let (mut diff, mut base) = (0.0, 0.0);
             for (i, p) in sim.state.position.iter().enumerate() {
-                let e = self.interpolate(exact, p.y);
+                let e = self.interpolate(exact, p[1]);
                 diff += (num(i) - e).powi(2);
                 base += e * e;
             }
@@ -94,20 +106,23 @@ impl ExactStresses {
         };
         let p = &self.profiles;
         [
-            norm(&|i| tau[i].xy, &p.xy),
-            norm(&|i| tau[i].xx, &p.xx),
-            norm(&|i| tau[i].yy, &p.yy),
+            norm(&|i| tau[i].entry(0, 1), &p.xy),
+            norm(&|i| tau[i].entry(0, 0), &p.xx),
+            norm(&|i| tau[i].entry(1, 1), &p.yy),
         ]
     }
 }
 
 /// The errors block for a run that ended in `sim`, with its series rows.
-pub fn final_errors(
-    sim: &Simulation,
+pub fn final_errors<const D: usize>(
+    sim: &Simulation<D>,
     reference: Result<&mut Reference, &str>,
     rows: &[SeriesRow],
     dt: f64,
-) -> (Errors, Option<ExactStresses>) {
+) -> (Errors, Option<ExactStresses>)
+where
+    Dim<D>: StepDimension<D> + InPlane<D>,
+{
     let last = rows.last().copied().unwrap_or_default();
     let reference = match reference {
         Ok(r) => r,
@@ -128,8 +143,9 @@ pub fn final_errors(
     let first_overshoot = rows.windows(3).find(|w| {
         w[1].u_centre_exact > w[0].u_centre_exact && w[1].u_centre_exact >= w[2].u_centre_exact
     });
-    let u_relative_l2 =
-        reference.relative_l2(&sim.state.position, &sim.state.velocity, sim.state.time);
+    let plane = |v| Dim::<D>::in_plane(v);
+    let s = &sim.state;
+    let u_relative_l2 = reference.relative_l2(&plane(&s.position), &plane(&s.velocity), s.time);
     let stresses = ExactStresses::at_stress_time(sim, reference, dt);
     let [tau_xy, tau_xx, tau_yy] = stresses
         .as_ref()
@@ -165,10 +181,22 @@ pub struct ProfileRow {
     pub x: f64,
     #[serde(serialize_with = "fmt::sci8")]
     pub y: f64,
+    /// In space only.
+    #[serde(
+        serialize_with = "fmt::opt_sci8",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub z: Option<f64>,
     #[serde(serialize_with = "fmt::sci8")]
     pub u: f64,
     #[serde(serialize_with = "fmt::sci8")]
     pub v: f64,
+    /// In space only.
+    #[serde(
+        serialize_with = "fmt::opt_sci8",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub w: Option<f64>,
     #[serde(serialize_with = "fmt::opt_sci8")]
     pub u_exact: Option<f64>,
     #[serde(serialize_with = "fmt::sci8")]
@@ -193,17 +221,21 @@ pub struct ProfileRow {
 /// (empty where there is no reference), its pressure p and the viscosity η of its viscous term
 /// (η(γ̇) of a generalised Newtonian fluid, η_s otherwise), for post-processing and profile
 /// comparisons.
-pub fn profile_csv(
-    sim: &Simulation,
+pub fn profile_csv<const D: usize>(
+    sim: &Simulation<D>,
     reference: Option<&mut Reference>,
     stresses: Option<&ExactStresses>,
-) -> String {
+) -> String
+where
+    Dim<D>: StepDimension<D> + InPlane<D>,
+{
     let s = &sim.state;
     let mut exact_u = Vec::new();
     let has_reference = reference.is_some();
     if let Some(r) = reference {
-        r.velocity_at(&s.position, s.time, &mut exact_u);
+        r.velocity_at(&Dim::<D>::in_plane(&s.position), s.time, &mut exact_u);
     }
+    let third = |v: &nalgebra::SVector<f64, D>| (D == 3).then(|| v[D - 1]);
     let tau = sim.polymer_stress();
     let eta = sim.viscosity();
     let rows: Vec<ProfileRow> = s
@@ -212,16 +244,19 @@ pub fn profile_csv(
         .enumerate()
         .map(|(i, p)| {
             let ex =
-                |f: fn(&ExactStresses) -> &Vec<f64>| stresses.map(|e| e.interpolate(f(e), p.y));
+                |f: fn(&ExactStresses) -> &Vec<f64>| stresses.map(|e| e.interpolate(f(e), p[1]));
+            let (u, t) = (&s.velocity[i], &tau[i]);
             ProfileRow {
-                x: p.x,
-                y: p.y,
-                u: s.velocity[i].x,
-                v: s.velocity[i].y,
+                x: p[0],
+                y: p[1],
+                z: third(p),
+                u: u[0],
+                v: u[1],
+                w: third(u),
                 u_exact: has_reference.then(|| exact_u[i].x),
-                tau_xx: tau[i].xx,
-                tau_xy: tau[i].xy,
-                tau_yy: tau[i].yy,
+                tau_xx: t.entry(0, 0),
+                tau_xy: t.entry(0, 1),
+                tau_yy: t.entry(1, 1),
                 tau_xx_exact: ex(|e| &e.profiles.xx),
                 tau_xy_exact: ex(|e| &e.profiles.xy),
                 tau_yy_exact: ex(|e| &e.profiles.yy),

@@ -9,6 +9,7 @@
 pub mod cadence;
 pub mod charts;
 pub mod checkpoint;
+pub mod dimension;
 pub mod errors;
 pub mod probes;
 pub mod run_loop;
@@ -79,7 +80,10 @@ pub fn on_pool_worker<T: Send>(f: impl FnOnce() -> Result<T> + Send) -> Result<T
 
 /// Runs a case to its end time or breakdown and writes the run directory.
 pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
-    run_from(case, options, Start::Fresh)
+    match case.scene.dimension() {
+        3 => run_from::<3>(case, options, Start::Fresh),
+        _ => run_from::<2>(case, options, Start::Fresh),
+    }
 }
 
 /// Runs `case` from the final state of the run in `from` (its `final_state.bin`): positions,
@@ -90,6 +94,10 @@ pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
 /// (`from` ran at another `scene.resolution`), the state is interpolated onto this case's
 /// particles instead ([`transfer`]).
 pub fn continue_from(case: &Case, options: &RunOptions, from: &Path) -> Result<Summary> {
+    anyhow::ensure!(
+        case.scene.dimension() == 2,
+        "`run --from` continues 2D runs only: a final state does not record z yet"
+    );
     let path = from.join(checkpoint::FINAL_STATE_FILE);
     anyhow::ensure!(
         path.exists(),
@@ -155,11 +163,14 @@ pub fn resumed(options: &RunOptions) -> Result<(Case, Start)> {
     Ok((case, Start::Resumed(Box::new(Resumed { sim, state, rows }))))
 }
 
-fn run_from(case: &Case, options: &RunOptions, start: Start) -> Result<Summary> {
+fn run_from<const D: usize>(case: &Case, options: &RunOptions, start: Start<D>) -> Result<Summary>
+where
+    crate::engine::dimension::Dim<D>: dimension::RunDimension<D>,
+{
     if !options.quiet {
         summary::report_start(case, &case.derived());
     }
-    let mut run = Run::new(case, options, start)?;
+    let mut run = Run::<D>::new(case, options, start)?;
     run.time_loop()?;
     run.finish()
 }

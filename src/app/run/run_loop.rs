@@ -3,7 +3,8 @@
 
 use super::cadence::Cadence;
 use super::charts;
-use super::checkpoint::{self, LoopState, CHECKPOINT_FILE, FINAL_STATE_FILE};
+use super::checkpoint::{LoopState, CHECKPOINT_FILE, FINAL_STATE_FILE};
+use super::dimension::RunDimension;
 use super::errors;
 use super::probes::Probes;
 use super::series;
@@ -12,6 +13,7 @@ use super::{RunOptions, CASE_FILE};
 use crate::analysis::reference::Reference;
 use crate::app::io::{self, SeriesRow};
 use crate::app::vtk;
+use crate::engine::dimension::Dim;
 use crate::engine::step::Simulation;
 use crate::engine::timing::Stage;
 use crate::setup::case::Case;
@@ -23,10 +25,13 @@ use std::time::{Duration, Instant};
 const FLUSH_INTERVAL: Duration = Duration::from_secs(2);
 
 /// A run in progress (the command line's loop, or a simulation stepped from Python).
-pub struct Run {
+pub struct Run<const D: usize = 2>
+where
+    Dim<D>: RunDimension<D>,
+{
     case: Case,
     options: RunOptions,
-    pub sim: Simulation,
+    pub sim: Simulation<D>,
     reference: Result<Reference, String>,
     rows: Vec<SeriesRow>,
     cadence: Cadence,
@@ -34,7 +39,7 @@ pub struct Run {
     window: PpeWindow,
     totals: PpeWindow,
     last_dt: f64,
-    probes: Probes,
+    probes: Probes<D>,
     snapshots: Option<vtk::Series>,
     breakdown: Option<String>,
     progress: ProgressBar,
@@ -45,26 +50,35 @@ pub struct Run {
 }
 
 /// How a run starts.
-pub enum Start {
+pub enum Start<const D: usize = 2>
+where
+    Dim<D>: RunDimension<D>,
+{
     /// From the case's initial state.
     Fresh,
     /// Continued from its own checkpoint.
-    Resumed(Box<Resumed>),
+    Resumed(Box<Resumed<D>>),
     /// From another run's final state (`run --from DIR`), with this case's parameters; the
     /// clock starts at t = 0.
-    Continued(Box<Simulation>),
+    Continued(Box<Simulation<D>>),
 }
 
 /// A run continued from its checkpoint.
-pub struct Resumed {
-    pub sim: Simulation,
+pub struct Resumed<const D: usize = 2>
+where
+    Dim<D>: RunDimension<D>,
+{
+    pub sim: Simulation<D>,
     pub state: LoopState,
     pub rows: Vec<SeriesRow>,
 }
 
-impl Run {
+impl<const D: usize> Run<D>
+where
+    Dim<D>: RunDimension<D>,
+{
     /// Prepares the run directory and the run's state (fresh, or from a checkpoint).
-    pub fn new(case: &Case, options: &RunOptions, start: Start) -> Result<Self> {
+    pub fn new(case: &Case, options: &RunOptions, start: Start<D>) -> Result<Self> {
         let dir = &options.out_dir;
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
         let reference = match (case.scene.reference(&case.fluid), &start) {
@@ -80,7 +94,7 @@ impl Run {
         // A previous run's summary must not survive to describe this one.
         let _ = std::fs::remove_file(dir.join("summary.json"));
         let _ = std::fs::remove_file(dir.join(super::ERROR_FILE));
-        let sim = Simulation::new(case.setup());
+        let sim = Dim::<D>::simulation(case)?;
         let snapshots = if options.snapshots {
             let grid_spacing = case.grid_spacing.unwrap_or(sim.spacing);
             Some(vtk::Series::new(dir, Some(grid_spacing))?)
@@ -97,7 +111,7 @@ impl Run {
             window: PpeWindow::default(),
             totals: PpeWindow::default(),
             last_dt: 0.0,
-            probes: Probes::for_case(case),
+            probes: Dim::<D>::probes(case),
             snapshots,
             breakdown: None,
             progress: summary::progress_bar(options.quiet, case.end_time),
@@ -131,7 +145,7 @@ impl Run {
     }
 
     /// A resumed run: the loop's state and the probes' rows from the checkpoint.
-    fn resume(&mut self, r: Resumed) -> Result<()> {
+    fn resume(&mut self, r: Resumed<D>) -> Result<()> {
         self.sim = r.sim;
         self.rows = r.rows;
         let st = r.state;
@@ -245,7 +259,7 @@ impl Run {
             return Ok(());
         }
         let t0 = Instant::now();
-        series.write(&self.sim)?;
+        Dim::<D>::write_snapshot(series, &self.sim)?;
         if let (Some(format), true) = (self.options.charts, self.case.scene.has_free_surface()) {
             // Drops in t* = tU/W, jets in seconds.
             let (title, name) = match self.case.scene.drop_shape() {
@@ -262,7 +276,7 @@ impl Run {
                 ),
             };
             let dir = self.options.out_dir.join("snapshots");
-            charts::free_surface_snapshot(&dir, format, &self.sim, &title, &name)?;
+            Dim::<D>::free_surface_chart(&dir, format, &self.sim, &title, &name)?;
         }
         self.sim
             .timers
@@ -272,7 +286,7 @@ impl Run {
 
     /// A checkpoint when one is due (a jet's growing particle count is not checkpointed).
     fn checkpoint_if_due(&mut self) -> Result<()> {
-        if self.sim.inflow().is_some() || !self.cadence.checkpoint_due(self.sim.state.time) {
+        if self.sim.grows() || !self.cadence.checkpoint_due(self.sim.state.time) {
             return Ok(());
         }
         self.checkpoint()
@@ -282,7 +296,7 @@ impl Run {
     /// it bit for bit.
     pub fn checkpoint(&mut self) -> Result<()> {
         anyhow::ensure!(
-            self.sim.inflow().is_none(),
+            !self.sim.grows(),
             "a jet cannot be checkpointed: its particle count grows"
         );
         let t0 = Instant::now();
@@ -302,8 +316,9 @@ impl Run {
             wall_seconds: self.wall_seconds(),
             stage_seconds: self.sim.timers,
         };
-        checkpoint::save(&self.options.out_dir, &state, &self.sim)?;
-        self.sim.reset_preconditioners();
+        if Dim::<D>::save_checkpoint(&self.options.out_dir, &state, &self.sim)? {
+            self.sim.reset_preconditioners();
+        }
         self.sim
             .timers
             .add(Stage::Output, t0.elapsed().as_secs_f64());
@@ -326,7 +341,7 @@ impl Run {
         let profile =
             errors::profile_csv(&self.sim, self.reference.as_mut().ok(), stresses.as_ref());
         io::write_atomic(&dir.join("profile.csv"), profile.as_bytes())?;
-        io::write_atomic(&dir.join("state.vtu"), &vtk::snapshot(&self.sim))
+        io::write_atomic(&dir.join("state.vtu"), &Dim::<D>::snapshot(&self.sim))
     }
 
     fn flush(&mut self) -> Result<()> {
@@ -383,9 +398,9 @@ impl Run {
             .timers
             .add(Stage::Output, t0.elapsed().as_secs_f64());
         let summary = self.summary(errors, probes);
-        if self.breakdown.is_none() && self.sim.inflow().is_none() {
+        if self.breakdown.is_none() && !self.sim.grows() {
             // The state another run can start from (`run --from DIR`).
-            checkpoint::write(&dir.join(FINAL_STATE_FILE), &self.sim)?;
+            Dim::<D>::write_final_state(&dir.join(FINAL_STATE_FILE), &self.sim)?;
         }
         io::write_json(&dir.join("summary.json"), &summary)?;
         if !self.options.quiet {
@@ -453,7 +468,10 @@ impl Run {
 /// between one and two stable steps is halved, so the last step is never a sliver. (The
 /// projection pressure carries an O(1/δt) part from the divergence left by the previous
 /// step; a tiny last step would make the final pressure, and the drag, spike.)
-fn step_limit(sim: &Simulation, remaining: f64, last_dt: f64) -> f64 {
+fn step_limit<const D: usize>(sim: &Simulation<D>, remaining: f64, last_dt: f64) -> f64
+where
+    Dim<D>: RunDimension<D>,
+{
     if last_dt > 0.0 && remaining < 3.0 * last_dt {
         let stable = sim.stable_dt();
         if remaining > stable && remaining < 2.0 * stable {

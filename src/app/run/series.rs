@@ -2,20 +2,25 @@
 
 use super::summary::PpeWindow;
 use crate::analysis::diagnostics;
+use crate::analysis::plane::InPlane;
 use crate::analysis::reference::Reference;
 use crate::app::io::SeriesRow;
-use crate::engine::step::Simulation;
+use crate::engine::dimension::Dim;
+use crate::engine::step::{Simulation, StepDimension};
 use crate::setup::scenes::Scene;
 
 /// The series row of the current state (the probes' columns NaN until they fill them);
 /// `window` holds the PPE statistics since the last row, `dt` the last step.
-pub fn row(
-    sim: &Simulation,
+pub fn row<const D: usize>(
+    sim: &Simulation<D>,
     scene: &dyn Scene,
     reference: Option<&mut Reference>,
     window: &PpeWindow,
     dt: f64,
-) -> SeriesRow {
+) -> SeriesRow
+where
+    Dim<D>: StepDimension<D> + InPlane<D>,
+{
     let s = &sim.state;
     let stats = diagnostics::field_stats(
         &s.velocity,
@@ -25,10 +30,14 @@ pub fn row(
     );
     let where_min_det = diagnostics::min_det_location(&s.position, &s.conformation);
     let where_max_trace = diagnostics::max_trace_location(&s.position, &s.conformation);
+    let (position, velocity) = (
+        Dim::<D>::in_plane(&s.position),
+        Dim::<D>::in_plane(&s.velocity),
+    );
     let (u_centre_exact, l2_error) = match reference {
         Some(r) => (
             r.characteristic_velocity(s.time),
-            r.l2_error(&s.position, &s.velocity, s.time),
+            r.l2_error(&position, &velocity, s.time),
         ),
         None => (f64::NAN, f64::NAN),
     };
@@ -36,7 +45,7 @@ pub fn row(
         t: s.time,
         dt,
         step: s.steps,
-        u_centre: scene.characteristic_velocity(&s.position, &s.velocity),
+        u_centre: scene.characteristic_velocity(&position, &velocity),
         u_centre_exact,
         l2_error,
         ppe_iterations: window.mean_iterations(),
@@ -51,12 +60,12 @@ pub fn row(
         k_pressure: f64::NAN,
         k_solvent: f64::NAN,
         k_polymer: f64::NAN,
-        body_force: s.body_force.x,
+        body_force: s.body_force[0],
         elastic_courant: window.max_elastic_courant,
-        min_det_a_x: where_min_det.x,
-        min_det_a_y: where_min_det.y,
-        max_trace_a_x: where_max_trace.x,
-        max_trace_a_y: where_max_trace.y,
+        min_det_a_x: where_min_det[0],
+        min_det_a_y: where_min_det[1],
+        max_trace_a_x: where_max_trace[0],
+        max_trace_a_y: where_max_trace[1],
         conformation_noise: diagnostics::conformation_noise(
             &sim.domain,
             &s.position,

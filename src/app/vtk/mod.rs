@@ -7,8 +7,9 @@ pub mod xml;
 
 use crate::analysis::grid::{self, GridFields};
 use crate::app::io::write_atomic;
+use crate::engine::dimension::{Dim, SymTensor};
 use crate::engine::free_surface::FreeSurface;
-use crate::engine::step::Simulation;
+use crate::engine::step::{Simulation, StepDimension};
 use anyhow::{Context, Result};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -61,6 +62,47 @@ pub fn snapshot(sim: &Simulation) -> Vec<u8> {
         values: &near_surface,
     });
     arrays.push(DataArray::scalars("position_divergence", &divergence));
+    xml::unstructured_vertices(&points, &arrays)
+}
+
+/// The `.vtu` document of the particles of a simulation in D dimensions: velocity,
+/// pressure and, for a viscoelastic fluid, the polymer stress's components (`tau_xx`,
+/// `tau_xy`, …), tr A and det A. The plane's snapshot ([`snapshot`]) adds the vorticity and
+/// the free surface's flags.
+pub fn particles<const D: usize>(sim: &Simulation<D>) -> Vec<u8>
+where
+    Dim<D>: StepDimension<D>,
+{
+    let s = &sim.state;
+    let n = s.position.len();
+    let xyz = |v: &nalgebra::SVector<f64, D>| [0, 1, 2].map(|a| if a < D { v[a] } else { 0.0 });
+    let points: Vec<f64> = s.position.iter().flat_map(xyz).collect();
+    let velocity: Vec<f64> = s.velocity.iter().flat_map(xyz).collect();
+    let mut scalars: Vec<(String, Vec<f64>)> = vec![("pressure".into(), s.pressure.clone())];
+    if !s.conformation.is_empty() {
+        let tau = sim.polymer_stress();
+        let axes = ["x", "y", "z"];
+        for i in 0..D {
+            for j in i..D {
+                let values = tau.iter().map(|t| t.entry(i, j)).collect();
+                scalars.push((format!("tau_{}{}", axes[i], axes[j]), values));
+            }
+        }
+        let (trace, det) = s.conformation.iter().map(|a| (a.trace(), a.det())).unzip();
+        scalars.push(("trace_A".into(), trace));
+        scalars.push(("det_A".into(), det));
+    }
+    let kind = vec![KIND_FLUID; n];
+    let mut arrays = vec![DataArray::F64 {
+        name: "velocity",
+        components: 3,
+        values: &velocity,
+    }];
+    arrays.extend(scalars.iter().map(|(name, v)| DataArray::scalars(name, v)));
+    arrays.push(DataArray::U8 {
+        name: "kind",
+        values: &kind,
+    });
     xml::unstructured_vertices(&points, &arrays)
 }
 
@@ -124,22 +166,29 @@ impl Series {
 
     /// Writes the current state and rewrites the collections.
     pub fn write(&mut self, sim: &Simulation) -> Result<()> {
-        let name = format!("step_{:08}.vtu", sim.state.steps);
-        write_atomic(&self.dir.join(&name), &snapshot(sim))?;
-        self.entries
-            .push((sim.state.time, format!("snapshots/{name}")));
-        let parent = self.dir.parent().unwrap_or(&self.dir).to_path_buf();
-        write_atomic(
-            &parent.join("snapshots.pvd"),
-            &collection(&self.entries, "vtu"),
-        )?;
+        let name = self.write_particles(sim.state.time, sim.state.steps, &snapshot(sim))?;
         if let Some(spacing) = self.grid_spacing {
+            let parent = self.dir.parent().unwrap_or(&self.dir).to_path_buf();
             let grid = grid::interpolate(sim, spacing);
             let name = name.replace(".vtu", ".vti");
             write_atomic(&self.dir.join(name), &grid_snapshot(&grid))?;
             write_atomic(&parent.join("grid.pvd"), &collection(&self.entries, "vti"))?;
         }
         Ok(())
+    }
+
+    /// Writes the particles' `document` (a `.vtu`) of step `steps` at time `t` and rewrites
+    /// `snapshots.pvd`; returns the file's name.
+    pub fn write_particles(&mut self, t: f64, steps: u64, document: &[u8]) -> Result<String> {
+        let name = format!("step_{steps:08}.vtu");
+        write_atomic(&self.dir.join(&name), document)?;
+        self.entries.push((t, format!("snapshots/{name}")));
+        let parent = self.dir.parent().unwrap_or(&self.dir).to_path_buf();
+        write_atomic(
+            &parent.join("snapshots.pvd"),
+            &collection(&self.entries, "vtu"),
+        )?;
+        Ok(name)
     }
 
     /// The (time, file) entries of the collection.

@@ -165,6 +165,11 @@ where
     /// After Step 7: bodies take their loads and move.
     fn move_bodies(&mut self, _step: BodyStep<D>) {}
 
+    /// Whether the particle count grows (an inflow feeds particles).
+    fn grows(&self) -> bool {
+        false
+    }
+
     /// The particles are still in the box (a free surface has nothing else to hold them).
     fn check_particles(&self, _state: &State<D>, _domain: &Domain<D>) -> Result<(), String> {
         Ok(())
@@ -355,6 +360,10 @@ impl Features<2> for PlaneFeatures {
         b.state.body_force = b.timers.time(Stage::Bodies, || {
             bodies.hold_return_flow(velocity, dv, fluid.density, g, dt)
         });
+    }
+
+    fn grows(&self) -> bool {
+        self.inflow.is_some()
     }
 
     fn check_particles(&self, state: &State, domain: &Domain) -> Result<(), String> {

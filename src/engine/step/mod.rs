@@ -376,6 +376,12 @@ where
         self.stages.hood.set_skin(skin, support);
     }
 
+    /// Whether the particle count grows during the run (an inflow feeds particles; such a
+    /// run is not checkpointed).
+    pub fn grows(&self) -> bool {
+        self.stages.features.grows()
+    }
+
     pub fn particles(&self) -> usize {
         self.state.position.len()
     }

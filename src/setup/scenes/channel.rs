@@ -5,8 +5,8 @@
 use super::discs::{check_apart, ContactSpec, DiscPlan, DiscSpec};
 use super::graded::GradedPlan;
 use super::{
-    check_box, check_memory, check_periodic_length, circle_in_box, finite_force, support_in_dr,
-    Scene, SceneBox,
+    check_box, check_memory, check_periodic_extent, check_periodic_length, circle_in_box,
+    finite_force, support_in_dr, Scene, SceneBox,
 };
 use crate::analysis::analytic::SteadyChannel;
 use crate::analysis::diagnostics::centre_line_velocity;
@@ -68,6 +68,13 @@ pub struct ChannelSpec {
     /// (`engine::bodies` has no wall to share the load with).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub walls: Option<bool>,
+    /// Space dimensions: 2 (the default) or 3, the channel periodic along z as well.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dimension: Option<usize>,
+    /// In 3D, the periodic extent along z (default: three kernel supports, 12δr, the least
+    /// a periodic axis takes; the flow does not vary along z).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub depth: Option<f64>,
     /// Graded resolution (fixed particles): the spacing at the plates and the cylinder is
     /// δr/`refine_walls`, growing by a quarter a layer to δr (1, the default: uniform; see
     /// `engine::resolution`).
@@ -114,13 +121,19 @@ pub struct Channel {
     pub walls: bool,
     /// The walls' spacing is δr/`refine` (1: uniform).
     pub refine: f64,
+    /// 2 or 3.
+    pub dimension: usize,
+    /// In 3D, the periodic extent along z and the particle layers across it (0 in 2D).
+    pub depth: f64,
+    layers: usize,
 }
 
 impl ChannelSpec {
     pub fn validate(&self) -> Result<Channel, FieldError> {
         check_box(self.length, self.height, self.resolution)?;
         let columns = check_periodic_length(self.length, self.height, self.resolution)?;
-        check_memory(columns as f64 * self.resolution as f64)?;
+        let (dimension, depth, layers) = self.validate_depth()?;
+        check_memory((columns * self.resolution * layers.max(1)) as f64)?;
         let wall_velocity = self.wall_velocity.unwrap_or([0.0, 0.0]);
         if !wall_velocity.iter().all(|v| v.is_finite()) {
             return Err(field_err("scene.wall_velocity", "must be finite"));
@@ -202,6 +215,9 @@ impl ChannelSpec {
             .transpose()?;
         let gravity = self.validate_gravity()?;
         let refine = self.validate_refinement(walls, cylinder, rings)?;
+        if dimension == 3 {
+            self.validate_in_space()?;
+        }
         Ok(Channel {
             bounds,
             columns,
@@ -216,7 +232,55 @@ impl ChannelSpec {
             gravity,
             walls,
             refine,
+            dimension,
+            depth,
+            layers,
         })
+    }
+
+    /// `scene.dimension` (2 or 3) and, in 3D, `scene.depth` and its particle layers.
+    fn validate_depth(&self) -> Result<(usize, f64, usize), FieldError> {
+        let dimension = self.dimension.unwrap_or(2);
+        match (dimension, self.depth) {
+            (2, None) => Ok((2, 0.0, 0)),
+            (2, Some(_)) => Err(field_err(
+                "scene.depth",
+                "the extent along z applies in 3D: set scene.dimension = 3 or leave it out",
+            )),
+            (3, depth) => {
+                let dr = self.height / self.resolution as f64;
+                let least = (3.0 * support_in_dr()).ceil() * dr;
+                let depth = depth.unwrap_or(least);
+                let layers =
+                    check_periodic_extent("scene.depth", depth, self.height, self.resolution)?;
+                Ok((3, depth, layers))
+            }
+            (other, _) => Err(field_err(
+                "scene.dimension",
+                format!("must be 2 or 3, got {other}"),
+            )),
+        }
+    }
+
+    /// What a channel in space does not have yet: cylinders, discs, sedimentation and graded
+    /// resolution are 2D.
+    fn validate_in_space(&self) -> Result<(), FieldError> {
+        let refused = [
+            (self.cylinder.is_some(), "scene.cylinder"),
+            (!self.discs.is_empty(), "scene.discs"),
+            (self.gravity.is_some(), "scene.gravity"),
+            (
+                self.refine_walls.is_some_and(|r| r > 1.0),
+                "scene.refine_walls",
+            ),
+        ];
+        match refused.iter().find(|(r, _)| *r) {
+            Some((_, key)) => Err(field_err(
+                key,
+                "is written for 2D scenes only (scene.dimension = 3)",
+            )),
+            None => Ok(()),
+        }
     }
 
     /// `scene.refine_walls`: at least 1, no discs (they move), and the plates' and the
@@ -501,7 +565,7 @@ impl Scene for Channel {
 
     fn particles(&self) -> usize {
         if self.cylinder.is_none() && self.discs.is_empty() && self.refine <= 1.0 {
-            self.columns * self.bounds.resolution
+            self.columns * self.bounds.resolution * self.layers.max(1)
         } else {
             self.positions().len()
         }
@@ -553,26 +617,21 @@ impl Scene for Channel {
     /// Plates at y = 0 and H (or none: periodic in y), periodic along x and z, on a cubic
     /// lattice: the flow does not vary along z, so a depth of three kernel supports (the
     /// least a periodic axis takes) suffices. Cylinders, discs and graded resolution are 2D.
+    fn dimension(&self) -> usize {
+        self.dimension
+    }
+
     fn build_in_space(
         &self,
         fluid: &Fluid,
         scheme: &Scheme,
         scales: Scales,
-        depth: f64,
     ) -> Result<FlowSetup<3>, String> {
-        let refused = [
-            (self.cylinder.is_some(), "scene.cylinder"),
-            (!self.discs.is_empty(), "scene.discs"),
-            (self.gravity != Vec2::zeros(), "scene.gravity"),
-            (self.refine > 1.0, "scene.refine_walls"),
-        ];
-        if let Some((_, key)) = refused.iter().find(|(r, _)| *r) {
-            return Err(format!("{key} is written for 2D scenes only"));
+        if self.dimension != 3 {
+            return Err("scene.dimension is 2".into());
         }
-        let dr = self.spacing();
-        let layers = check_periodic_length(depth, self.bounds.height, self.bounds.resolution)
-            .map_err(|(_, why)| format!("the depth: {why}"))?;
-        let counts = [self.columns, self.bounds.resolution, layers];
+        let (dr, depth) = (self.spacing(), self.depth);
+        let counts = [self.columns, self.bounds.resolution, self.layers];
         let n: usize = counts.iter().product();
         let positions: Vec<Vector<3>> = (0..n)
             .map(|k| {

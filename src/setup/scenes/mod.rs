@@ -56,11 +56,26 @@ impl SceneSpec {
     /// Reads the `[scene]` table: its `kind` first, then the table as that kind's spec, so
     /// that an unknown or misplaced key is named as `scene.<key>`.
     pub fn from_table(mut table: toml::Table) -> Result<Self, FieldError> {
+        let dimension = table.get("dimension").cloned();
         let kind = match table.remove("kind") {
             Some(toml::Value::String(k)) => k,
             Some(_) => return Err(field_err("scene.kind", format!("must be one of {KINDS}"))),
             None => return Err(field_err("scene.kind", format!("missing: one of {KINDS}"))),
         };
+        if kind != "channel" {
+            match dimension {
+                None => {}
+                Some(toml::Value::Integer(2)) => {
+                    table.remove("dimension");
+                }
+                Some(_) => {
+                    return Err(field_err(
+                        "scene.dimension",
+                        format!("scene.kind = \"{kind}\" is 2D only (`channel` is written in 3D)"),
+                    ))
+                }
+            }
+        }
         let value = toml::Value::Table(table);
         Ok(match kind.as_str() {
             "channel" => SceneSpec::Channel(read(value)?),
@@ -158,7 +173,11 @@ pub trait Scene: fmt::Debug + Send + Sync {
     }
     /// The engine's initial state.
     fn build(&self, fluid: &Fluid, scheme: &Scheme, scales: Scales) -> Setup;
-    /// The scene in space, `depth` deep along z (periodic), for [`Simulation::in_space`];
+    /// Space dimensions, `scene.dimension`: 2, or 3 where the scene is written in 3D.
+    fn dimension(&self) -> usize {
+        2
+    }
+    /// The scene in space (`scene.dimension = 3`), for [`Simulation::in_space`];
     /// refused, naming what is 2D only, where the scene is not written in 3D.
     ///
     /// [`Simulation::in_space`]: crate::engine::step::Simulation::in_space
@@ -167,7 +186,6 @@ pub trait Scene: fmt::Debug + Send + Sync {
         _fluid: &Fluid,
         _scheme: &Scheme,
         _scales: Scales,
-        _depth: f64,
     ) -> Result<FlowSetup<3>, String> {
         Err(format!("scene.kind = \"{}\" is 2D only", self.kind()))
     }
@@ -265,17 +283,27 @@ pub(crate) fn check_periodic_length(
     height: f64,
     resolution: usize,
 ) -> Result<usize, FieldError> {
+    check_periodic_extent("scene.length", length, height, resolution)
+}
+
+/// [`check_periodic_length`] for the periodic extent `field`.
+pub(crate) fn check_periodic_extent(
+    field: &str,
+    length: f64,
+    height: f64,
+    resolution: usize,
+) -> Result<usize, FieldError> {
     let dr = height / resolution as f64;
     let columns = length / dr;
     if (columns - columns.round()).abs() > 1e-6 * columns {
         return Err(field_err(
-            "scene.length",
+            field,
             format!("must be a whole number of particle spacings height/resolution = {dr}, got {columns:.4} spacings"),
         ));
     }
     if columns.round() < (3.0 * support_in_dr()).ceil() {
         return Err(field_err(
-            "scene.length",
+            field,
             format!("the periodic length must hold three kernel supports ({:.0} spacings), got {columns:.0}", (3.0 * support_in_dr()).ceil()),
         ));
     }

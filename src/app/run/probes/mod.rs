@@ -16,23 +16,27 @@ pub mod steady;
 
 use crate::app::io::SeriesRow;
 use crate::app::plot::FigureFormat;
-use crate::engine::step::Simulation;
+use crate::engine::dimension::Dim;
+use crate::engine::step::{Simulation, StepDimension};
 use crate::setup::case::Case;
 use anyhow::Result;
 use std::collections::BTreeMap;
 use std::path::Path;
 
 /// Something a run records at every output time.
-pub trait Probe: Send {
+pub trait Probe<const D: usize = 2>: Send
+where
+    Dim<D>: StepDimension<D>,
+{
     /// Its name: the key of its entry in `summary.json` and in checkpoints.
     fn name(&self) -> &'static str;
     /// Fills its own columns of the series row of the current state.
-    fn fill_row(&mut self, _sim: &mut Simulation, _row: &mut SeriesRow) {}
+    fn fill_row(&mut self, _sim: &mut Simulation<D>, _row: &mut SeriesRow) {}
     /// Records the current state (`rows` ends with its series row).
-    fn record(&mut self, sim: &mut Simulation, rows: &[SeriesRow]);
+    fn record(&mut self, sim: &mut Simulation<D>, rows: &[SeriesRow]);
     /// After a regular output row: an earlier end time, if the run should stop (e.g. once a
     /// steady state has been averaged).
-    fn end_time(&mut self, _sim: &mut Simulation, _rows: &[SeriesRow]) -> Option<f64> {
+    fn end_time(&mut self, _sim: &mut Simulation<D>, _rows: &[SeriesRow]) -> Option<f64> {
         None
     }
     /// Its state for a checkpoint.
@@ -52,7 +56,7 @@ pub trait Probe: Send {
     /// any), and its summary.
     fn finish(
         &mut self,
-        sim: &mut Simulation,
+        sim: &mut Simulation<D>,
         rows: &[SeriesRow],
         dir: &Path,
         charts: Option<FigureFormat>,
@@ -60,7 +64,9 @@ pub trait Probe: Send {
 }
 
 /// The probes of a run.
-pub struct Probes(Vec<Box<dyn Probe>>);
+pub struct Probes<const D: usize = 2>(Vec<Box<dyn Probe<D>>>)
+where
+    Dim<D>: StepDimension<D>;
 
 impl Probes {
     /// The probes that apply to a case.
@@ -100,6 +106,16 @@ impl Probes {
         }
         Self(probes)
     }
+}
+
+impl<const D: usize> Probes<D>
+where
+    Dim<D>: StepDimension<D>,
+{
+    /// No probes (a scene in space records its series alone).
+    pub fn none() -> Self {
+        Self(Vec::new())
+    }
 
     /// The probes' names (their entries in `summary.json`).
     pub fn names(&self) -> impl Iterator<Item = &'static str> + '_ {
@@ -107,16 +123,16 @@ impl Probes {
     }
 
     /// Fills the probes' columns of `row`.
-    pub fn fill_row(&mut self, sim: &mut Simulation, row: &mut SeriesRow) {
+    pub fn fill_row(&mut self, sim: &mut Simulation<D>, row: &mut SeriesRow) {
         self.0.iter_mut().for_each(|p| p.fill_row(sim, row));
     }
 
-    pub fn record(&mut self, sim: &mut Simulation, rows: &[SeriesRow]) {
+    pub fn record(&mut self, sim: &mut Simulation<D>, rows: &[SeriesRow]) {
         self.0.iter_mut().for_each(|p| p.record(sim, rows));
     }
 
     /// The earliest end time any probe asks for.
-    pub fn end_time(&mut self, sim: &mut Simulation, rows: &[SeriesRow]) -> Option<f64> {
+    pub fn end_time(&mut self, sim: &mut Simulation<D>, rows: &[SeriesRow]) -> Option<f64> {
         self.0
             .iter_mut()
             .filter_map(|p| p.end_time(sim, rows))
@@ -148,7 +164,7 @@ impl Probes {
     /// Final files, charts and the summary entries by name.
     pub fn finish(
         &mut self,
-        sim: &mut Simulation,
+        sim: &mut Simulation<D>,
         rows: &[SeriesRow],
         dir: &Path,
         charts: Option<FigureFormat>,
