@@ -9,6 +9,7 @@
 #   plots/regenerate.sh surfaces   # drops and jets
 #   plots/regenerate.sh models     # the models', Couette's, the cavity's and the GN channels' cases (10 min)
 #   plots/regenerate.sh discs      # the free disc in shear, migration, near contact, sedimentation (30 min)
+#   plots/regenerate.sh three-d    # the channel in 3D beside 2D at H/dr = 10, 15, 20
 # Then `rheosph gallery` rewrites the validation pages' generated tables from the runs and
 # lists every committed number that changed.
 set -euo pipefail
@@ -347,6 +348,16 @@ RAYON_NUM_THREADS=1 $R run $S --no-snapshots --no-charts --set fluid.model=newto
 RAYON_NUM_THREADS=1 $R run cases/disc-settling-array.toml --no-snapshots --no-charts \
   --set run.end_time=100 --set run.output_interval=100 --out plots/discs/settling-array
 rm -f plots/discs/*/checkpoint.bin plots/discs/*/final_state.bin plots/discs/*/profile.csv
+fi
+
+if [ "$part" = all ] || [ "$part" = three-d ]; then
+# Start-up Poiseuille, Re = Wi = 1, beta = 0.1, in 3D (periodic in x and z, 12 dr deep) and in
+# 2D with the same scheme and box (1.2 long: H/dr = 10 must hold three supports along x).
+for d in 3 2; do
+  $R study convergence $C --resolutions 10,15,20 $I --set scene.dimension=$d \
+    --set scene.length=1.2 --out plots/three-d/channel-${d}d
+done
+rm -f plots/three-d/*/runs/*/final_state.bin plots/three-d/*/runs/*/checkpoint.bin
 fi
 
 # The validation pages' tables from what ran (the changed numbers are listed).

@@ -50,7 +50,7 @@ impl RunDimension<2> for Dim<2> {
     fn simulation(case: &Case) -> Result<Simulation> {
         anyhow::ensure!(
             case.scene.dimension() == 2,
-            "scene.dimension = {}: this runs 2D cases",
+            "scene.dimension = {}: a live simulation (Python's `Simulation`, `--resume`, `run --from`) takes 2D cases",
             case.scene.dimension()
         );
         Ok(Simulation::new(case.setup()))
