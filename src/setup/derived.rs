@@ -8,7 +8,7 @@ use crate::engine::viscosity::{
     advective_limit, elastic_limit, viscous_limit, DtInputs, Viscosity,
 };
 use crate::engine::weakly_compressible::ACOUSTIC_COURANT;
-use crate::setup::scenes::BYTES_PER_PARTICLE;
+use crate::setup::scenes::bytes_per_particle;
 use crate::setup::validate::Case;
 use serde::Serialize;
 
@@ -95,7 +95,7 @@ impl Case {
             sound_speed,
             dt_acoustic,
             estimated_steps: self.end_time / (factor * limit),
-            estimated_memory_bytes: c.particles() as f64 * BYTES_PER_PARTICLE,
+            estimated_memory_bytes: c.particles() as f64 * bytes_per_particle(c.dimension()),
             viscosity: self.scheme.viscosity,
         }
     }

@@ -5,7 +5,7 @@
 use super::discs::{check_apart, ContactSpec, DiscPlan, DiscSpec};
 use super::graded::GradedPlan;
 use super::{
-    check_box, check_memory, check_periodic_extent, check_periodic_length, circle_in_box,
+    check_box, check_memory_in, check_periodic_extent, check_periodic_length, circle_in_box,
     finite_force, support_in_dr, Scene, SceneBox,
 };
 use crate::analysis::analytic::SteadyChannel;
@@ -133,7 +133,10 @@ impl ChannelSpec {
         check_box(self.length, self.height, self.resolution)?;
         let columns = check_periodic_length(self.length, self.height, self.resolution)?;
         let (dimension, depth, layers) = self.validate_depth()?;
-        check_memory((columns * self.resolution * layers.max(1)) as f64)?;
+        check_memory_in(
+            dimension,
+            (columns * self.resolution * layers.max(1)) as f64,
+        )?;
         let wall_velocity = self.wall_velocity.unwrap_or([0.0, 0.0]);
         if !wall_velocity.iter().all(|v| v.is_finite()) {
             return Err(field_err("scene.wall_velocity", "must be finite"));
