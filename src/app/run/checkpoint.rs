@@ -16,25 +16,28 @@
 //! ```text
 //!     magic      9 bytes  "RHEOSPHCK"
 //!     version    u32      3
-//!     flags      u32      bit 0: conformation stored; bit 1: Eulerian frame
+//!     flags      u32      bit 0: conformation stored; bit 1: Eulerian frame; bit 2: discs;
+//!                         bit 3: space (D = 3; else the plane, D = 2)
 //!     particles  u64      n
 //!     spacing    f64      δr
 //!     time       f64
 //!     steps      u64
-//!     body force f64, f64   (the drive's force of the next step)
+//!     body force D × f64    (the drive's force of the next step)
 //!     previous δt f64       (the last step, which places A^{n−½} in time)
-//!     position        n × (x, y)
-//!     velocity        n × (x, y)
+//!     position        n × (x, y[, z])
+//!     velocity        n × (x, y[, z])
 //!     pressure        n × p
-//!     conformation    n × (xx, xy, yy), present with flag bit 0
-//!     shift_velocity  n × (x, y)
+//!     conformation    n × (xx, xy, yy) or (xx, xy, xz, yy, yz, zz), present with bit 0
+//!     shift_velocity  n × (x, y[, z])
+//!     discs           7 values a disc, present with bit 2
 //!     checksum   u64      FNV-1a of every preceding byte
 //! ```
 
 use crate::engine::bodies::DiscMotion;
+use crate::engine::dimension::{Dim, Sym, SymTensor, Vector};
 use crate::engine::frame::Frame;
-use crate::engine::math::{Sym2, Vec2};
-use crate::engine::step::{Simulation, State};
+use crate::engine::math::Vec2;
+use crate::engine::step::{Simulation, State, StepDimension};
 use std::path::Path;
 
 /// The first bytes of every checkpoint.
@@ -47,10 +50,27 @@ const FLAG_EULERIAN: u32 = 2;
 /// The rigid discs' centres, velocities, spins and accelerations follow the particles
 /// (7 values per disc; the case says how many).
 const FLAG_DISCS: u32 = 4;
-const KNOWN_FLAGS: u32 = FLAG_CONFORMATION | FLAG_EULERIAN | FLAG_DISCS;
+/// A simulation in space: three components a vector, six a conformation.
+const FLAG_SPACE: u32 = 8;
+const KNOWN_FLAGS: u32 = FLAG_CONFORMATION | FLAG_EULERIAN | FLAG_DISCS | FLAG_SPACE;
 const VALUES_PER_DISC: usize = 7;
+
+/// Space dimensions of a checkpoint with these flags.
+fn dimension(flags: u32) -> usize {
+    if flags & FLAG_SPACE != 0 {
+        3
+    } else {
+        2
+    }
+}
+
 /// Bytes before the particle arrays.
-const HEADER: usize = MAGIC.len() + 4 + 4 + 8 + 8 + 8 + 8 + 16 + 8;
+fn header(flags: u32) -> usize {
+    MAGIC.len() + 4 + 4 + 8 + 8 + 8 + 8 + 8 * dimension(flags) + 8
+}
+
+/// Bytes before the header's body force: enough to read the flags.
+const PREAMBLE: usize = MAGIC.len() + 4 + 4;
 const CHECKSUM: usize = 8;
 
 /// Why a checkpoint could not be restored.
@@ -79,7 +99,10 @@ fn fnv1a(bytes: &[u8]) -> u64 {
     })
 }
 
-fn flags_of(sim: &Simulation) -> u32 {
+fn flags_of<const D: usize>(sim: &Simulation<D>) -> u32
+where
+    Dim<D>: StepDimension<D>,
+{
     let mut flags = 0;
     if sim.fluid.model.is_viscoelastic() {
         flags |= FLAG_CONFORMATION;
@@ -87,26 +110,38 @@ fn flags_of(sim: &Simulation) -> u32 {
     if sim.scheme.frame == Frame::Eulerian {
         flags |= FLAG_EULERIAN;
     }
-    if !sim.bodies().is_empty() {
+    if !sim.body_motions().is_empty() {
         flags |= FLAG_DISCS;
+    }
+    if D == 3 {
+        flags |= FLAG_SPACE;
     }
     flags
 }
 
 /// f64 values per particle of a checkpoint with these flags.
 fn values_per_particle(flags: u32) -> usize {
-    let conformation = if flags & FLAG_CONFORMATION != 0 { 3 } else { 0 };
-    2 + 2 + 1 + conformation + 2
+    let d = dimension(flags);
+    let conformation = if flags & FLAG_CONFORMATION != 0 {
+        d * (d + 1) / 2
+    } else {
+        0
+    };
+    d + d + 1 + conformation + d
 }
 
 /// The checkpoint of `sim`.
-pub fn encode(sim: &Simulation) -> Vec<u8> {
+pub fn encode<const D: usize>(sim: &Simulation<D>) -> Vec<u8>
+where
+    Dim<D>: StepDimension<D>,
+{
     let s = &sim.state;
     let flags = flags_of(sim);
     let n = s.position.len();
-    let discs = 8 * VALUES_PER_DISC * sim.bodies().discs.len();
-    let mut out =
-        Vec::with_capacity(HEADER + 8 * n * values_per_particle(flags) + discs + CHECKSUM);
+    let motions = sim.body_motions();
+    let discs = 8 * VALUES_PER_DISC * motions.len();
+    let size = header(flags) + 8 * n * values_per_particle(flags) + discs + CHECKSUM;
+    let mut out = Vec::with_capacity(size);
     out.extend_from_slice(MAGIC);
     out.extend_from_slice(&VERSION.to_le_bytes());
     out.extend_from_slice(&flags.to_le_bytes());
@@ -115,32 +150,25 @@ pub fn encode(sim: &Simulation) -> Vec<u8> {
     out.extend_from_slice(&s.time.to_le_bytes());
     out.extend_from_slice(&s.steps.to_le_bytes());
     let mut put = |v: f64| out.extend_from_slice(&v.to_le_bytes());
-    put(s.body_force.x);
-    put(s.body_force.y);
+    s.body_force.iter().for_each(|&v| put(v));
     put(s.previous_dt);
     for field in [&s.position, &s.velocity] {
-        field.iter().for_each(|u| {
-            put(u.x);
-            put(u.y);
-        });
+        field.iter().flat_map(|u| u.iter()).for_each(|&v| put(v));
     }
     s.pressure.iter().for_each(|&p| put(p));
     if flags & FLAG_CONFORMATION != 0 {
-        s.conformation.iter().for_each(|a| {
-            put(a.xx);
-            put(a.xy);
-            put(a.yy);
-        });
+        for a in &s.conformation {
+            (0..D).for_each(|i| (i..D).for_each(|j| put(a.entry(i, j))));
+        }
     }
-    s.shift_velocity.iter().for_each(|u| {
-        put(u.x);
-        put(u.y);
-    });
-    for d in &sim.bodies().discs {
-        let c = d.circle.centre;
-        [c.x, c.y, d.velocity.x, d.velocity.y, d.spin]
+    s.shift_velocity
+        .iter()
+        .flat_map(|u| u.iter())
+        .for_each(|&v| put(v));
+    for m in &motions {
+        let (c, v, a) = (m.centre, m.velocity, m.acceleration);
+        [c.x, c.y, v.x, v.y, m.spin, a.x, a.y]
             .into_iter()
-            .chain([d.acceleration.x, d.acceleration.y])
             .for_each(&mut put);
     }
     let checksum = fnv1a(&out);
@@ -174,19 +202,39 @@ impl Reader<'_> {
         f64::from_le_bytes(self.take())
     }
 
-    fn vec2s(&mut self, n: usize) -> Vec<Vec2> {
-        (0..n)
-            .map(|_| {
-                let x = self.f64();
-                Vec2::new(x, self.f64())
-            })
-            .collect()
+    fn vector<const D: usize>(&mut self) -> Vector<D> {
+        let mut v = Vector::<D>::zeros();
+        v.iter_mut().for_each(|c| *c = self.f64());
+        v
+    }
+
+    fn vectors<const D: usize>(&mut self, n: usize) -> Vec<Vector<D>> {
+        (0..n).map(|_| self.vector()).collect()
+    }
+
+    /// A symmetric tensor stored as its upper triangle, row by row.
+    fn sym<const D: usize>(&mut self) -> Sym<D>
+    where
+        Dim<D>: StepDimension<D>,
+    {
+        let mut upper = [0.0; 6];
+        for value in upper.iter_mut().take(D * (D + 1) / 2) {
+            *value = self.f64();
+        }
+        let index = |i: usize, j: usize| {
+            let (i, j) = (i.min(j), i.max(j));
+            i * D - i * (i + 1) / 2 + j
+        };
+        Sym::<D>::from_entries(|i, j| upper[index(i, j)])
     }
 }
 
 /// Restores the checkpoint `bytes` into `sim`, a simulation built from the same case. On
 /// error `sim` is left unchanged.
-pub fn restore(sim: &mut Simulation, bytes: &[u8]) -> Result<(), CheckpointError> {
+pub fn restore<const D: usize>(sim: &mut Simulation<D>, bytes: &[u8]) -> Result<(), CheckpointError>
+where
+    Dim<D>: StepDimension<D>,
+{
     let magic_len = MAGIC.len().min(bytes.len());
     if bytes[..magic_len] != MAGIC[..magic_len] {
         return Err(CheckpointError::Magic);
@@ -196,7 +244,7 @@ pub fn restore(sim: &mut Simulation, bytes: &[u8]) -> Result<(), CheckpointError
         expected,
     };
     if bytes.len() < MAGIC.len() + 4 {
-        return Err(truncated(HEADER + CHECKSUM));
+        return Err(truncated(header(0) + CHECKSUM));
     }
     let mut r = Reader {
         bytes,
@@ -206,10 +254,13 @@ pub fn restore(sim: &mut Simulation, bytes: &[u8]) -> Result<(), CheckpointError
     if version != VERSION {
         return Err(CheckpointError::Version { found: version });
     }
-    if bytes.len() < HEADER + CHECKSUM {
-        return Err(truncated(HEADER + CHECKSUM));
+    if bytes.len() < PREAMBLE {
+        return Err(truncated(header(0) + CHECKSUM));
     }
     let flags = r.u32();
+    if bytes.len() < header(flags) + CHECKSUM {
+        return Err(truncated(header(flags) + CHECKSUM));
+    }
     if flags & !KNOWN_FLAGS != 0 {
         return Err(CheckpointError::Mismatch(format!(
             "unknown flags {flags:#x}"
@@ -217,14 +268,14 @@ pub fn restore(sim: &mut Simulation, bytes: &[u8]) -> Result<(), CheckpointError
     }
     let n = r.u64();
     let discs = if flags & FLAG_DISCS != 0 {
-        8 * VALUES_PER_DISC * sim.bodies().discs.len()
+        8 * VALUES_PER_DISC * sim.body_motions().len()
     } else {
         0
     };
     let expected = usize::try_from(n)
         .ok()
         .and_then(|n| n.checked_mul(8 * values_per_particle(flags)))
-        .and_then(|body| body.checked_add(HEADER + discs + CHECKSUM))
+        .and_then(|body| body.checked_add(header(flags) + discs + CHECKSUM))
         .unwrap_or(usize::MAX);
     if bytes.len() < expected {
         return Err(truncated(expected));
@@ -257,6 +308,9 @@ pub fn restore(sim: &mut Simulation, bytes: &[u8]) -> Result<(), CheckpointError
     if flags & FLAG_DISCS != wanted & FLAG_DISCS {
         return mismatch("discs stored for a scene without, or missing for one with".into());
     }
+    if flags & FLAG_SPACE != wanted & FLAG_SPACE {
+        return mismatch("the dimensions (2D/3D) differ".into());
+    }
     let spacing = r.f64();
     if spacing.to_bits() != sim.spacing.to_bits() {
         return mismatch(format!(
@@ -266,26 +320,17 @@ pub fn restore(sim: &mut Simulation, bytes: &[u8]) -> Result<(), CheckpointError
     }
     let time = r.f64();
     let steps = r.u64();
-    let body_force = Vec2::new(r.f64(), r.f64());
+    let body_force = r.vector();
     let previous_dt = r.f64();
-    let position = r.vec2s(n);
-    let velocity = r.vec2s(n);
+    let position = r.vectors(n);
+    let velocity = r.vectors(n);
     let pressure = (0..n).map(|_| r.f64()).collect();
     let conformation = if flags & FLAG_CONFORMATION != 0 {
-        (0..n)
-            .map(|_| {
-                let (xx, xy) = (r.f64(), r.f64());
-                Sym2 {
-                    xx,
-                    xy,
-                    yy: r.f64(),
-                }
-            })
-            .collect()
+        (0..n).map(|_| r.sym()).collect()
     } else {
         Vec::new()
     };
-    let shift_velocity = r.vec2s(n);
+    let shift_velocity = r.vectors(n);
     let discs = read_discs(&mut r, discs / (8 * VALUES_PER_DISC));
     debug_assert_eq!(r.at, body.len());
     sim.restore_state(State {
@@ -299,7 +344,7 @@ pub fn restore(sim: &mut Simulation, bytes: &[u8]) -> Result<(), CheckpointError
         shift_velocity,
         body_force,
     });
-    sim.restore_discs(&discs);
+    sim.restore_bodies(&discs);
     Ok(())
 }
 
@@ -319,7 +364,10 @@ fn read_discs(r: &mut Reader, count: usize) -> Vec<DiscMotion> {
 }
 
 /// Writes the checkpoint of `sim` to `path` atomically.
-pub fn write(path: &Path, sim: &Simulation) -> std::io::Result<()> {
+pub fn write<const D: usize>(path: &Path, sim: &Simulation<D>) -> std::io::Result<()>
+where
+    Dim<D>: StepDimension<D>,
+{
     crate::app::io::write_atomic(path, &encode(sim)).map_err(|e| {
         let kind = e
             .root_cause()
@@ -330,7 +378,10 @@ pub fn write(path: &Path, sim: &Simulation) -> std::io::Result<()> {
 }
 
 /// Reads the checkpoint at `path` and restores it into `sim` (see [`restore`]).
-pub fn read(path: &Path, sim: &mut Simulation) -> Result<(), CheckpointError> {
+pub fn read<const D: usize>(path: &Path, sim: &mut Simulation<D>) -> Result<(), CheckpointError>
+where
+    Dim<D>: StepDimension<D>,
+{
     let bytes = std::fs::read(path)?;
     restore(sim, &bytes)
 }
@@ -364,7 +415,14 @@ pub struct LoopState {
 }
 
 /// Writes the checkpoint file: the loop state and the simulation, atomically.
-pub fn save(dir: &Path, state: &LoopState, sim: &Simulation) -> anyhow::Result<()> {
+pub fn save<const D: usize>(
+    dir: &Path,
+    state: &LoopState,
+    sim: &Simulation<D>,
+) -> anyhow::Result<()>
+where
+    Dim<D>: StepDimension<D>,
+{
     let json = serde_json::to_vec(state)?;
     let mut bytes = (json.len() as u64).to_le_bytes().to_vec();
     bytes.extend_from_slice(&json);

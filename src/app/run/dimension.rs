@@ -39,10 +39,10 @@ where
         name: &str,
     ) -> Result<()>;
 
-    /// Writes `checkpoint.bin` (2D; false where checkpoints are not written).
+    /// Writes `checkpoint.bin` (false where checkpoints are not written).
     fn save_checkpoint(dir: &Path, state: &LoopState, sim: &Simulation<D>) -> Result<bool>;
 
-    /// Writes the state another run can start from (`run --from`; 2D).
+    /// Writes the state another run can start from (`run --from`).
     fn write_final_state(path: &Path, sim: &Simulation<D>) -> Result<()>;
 }
 
@@ -50,7 +50,7 @@ impl RunDimension<2> for Dim<2> {
     fn simulation(case: &Case) -> Result<Simulation> {
         anyhow::ensure!(
             case.scene.dimension() == 2,
-            "scene.dimension = {}: a live simulation (Python's `Simulation`, `--resume`, `run --from`) takes 2D cases",
+            "scene.dimension = {}: a live simulation (Python's `Simulation`) and `run --from` take 2D cases",
             case.scene.dimension()
         );
         Ok(Simulation::new(case.setup()))
@@ -119,12 +119,12 @@ impl RunDimension<3> for Dim<3> {
         Ok(())
     }
 
-    /// Checkpoints are written in 2D only (their format has no z yet): none.
-    fn save_checkpoint(_dir: &Path, _state: &LoopState, _sim: &Simulation<3>) -> Result<bool> {
-        Ok(false)
+    fn save_checkpoint(dir: &Path, state: &LoopState, sim: &Simulation<3>) -> Result<bool> {
+        checkpoint::save(dir, state, sim)?;
+        Ok(true)
     }
 
-    fn write_final_state(_path: &Path, _sim: &Simulation<3>) -> Result<()> {
-        Ok(())
+    fn write_final_state(path: &Path, sim: &Simulation<3>) -> Result<()> {
+        Ok(checkpoint::write(path, sim)?)
     }
 }

@@ -25,6 +25,7 @@ pub use summary::{Outcome, PpeSummary, Summary};
 use crate::app::io;
 use crate::setup::case::Case;
 use anyhow::{Context, Result};
+use checkpoint::LoopState;
 use run_loop::{Resumed, Run, Start};
 use std::path::{Path, PathBuf};
 
@@ -96,7 +97,7 @@ pub fn run(case: &Case, options: &RunOptions) -> Result<Summary> {
 pub fn continue_from(case: &Case, options: &RunOptions, from: &Path) -> Result<Summary> {
     anyhow::ensure!(
         case.scene.dimension() == 2,
-        "`run --from` continues 2D runs only: a final state does not record z yet"
+        "`run --from` continues 2D runs only (the interpolation onto another case's particles is 2D)"
     );
     let path = from.join(checkpoint::FINAL_STATE_FILE);
     anyhow::ensure!(
@@ -136,22 +137,43 @@ fn stored_case(dir: &Path) -> Result<Case> {
 /// case as run in `case.toml`). The continued run writes what the uninterrupted one would
 /// have: the series is cut back to the checkpoint and extended bit for bit.
 pub fn resume(options: &RunOptions) -> Result<Summary> {
+    let (case, _) = checkpointed_case(options)?;
+    if case.scene.dimension() == 3 {
+        let (case, start) = resumed_in::<3>(options)?;
+        return run_from(&case, options, start);
+    }
     let (case, start) = resumed(options)?;
     run_from(&case, options, start)
 }
 
-/// The case and the start of the run in `options.out_dir`, from its last checkpoint.
-pub fn resumed(options: &RunOptions) -> Result<(Case, Start)> {
+/// The case and the loop state of the run in `options.out_dir`, from its last checkpoint.
+fn checkpointed_case(options: &RunOptions) -> Result<(Case, (LoopState, Vec<u8>))> {
     let dir = &options.out_dir;
     let (state, bytes) = checkpoint::load(dir)?;
     let text = std::fs::read_to_string(dir.join(CASE_FILE))
         .with_context(|| format!("reading {}", dir.join(CASE_FILE).display()))?;
     let case = crate::setup::case::parse(&text, CASE_FILE, &state.case_name, &[])?;
+    Ok((case, (state, bytes)))
+}
+
+/// The case and the start of the 2D run in `options.out_dir`, from its last checkpoint.
+pub fn resumed(options: &RunOptions) -> Result<(Case, Start)> {
+    resumed_in::<2>(options)
+}
+
+/// The case and the start of the run in `options.out_dir`, from its last checkpoint.
+fn resumed_in<const D: usize>(options: &RunOptions) -> Result<(Case, Start<D>)>
+where
+    crate::engine::dimension::Dim<D>: dimension::RunDimension<D>,
+{
+    let dir = &options.out_dir;
+    let (case, (state, bytes)) = checkpointed_case(options)?;
     anyhow::ensure!(
         case.scene.jet_shape().is_none(),
         "a jet cannot be resumed: its particle count grows and checkpoints do not record the inflow buffer"
     );
-    let mut sim = crate::engine::step::Simulation::new(case.setup());
+    let mut sim =
+        <crate::engine::dimension::Dim<D> as dimension::RunDimension<D>>::simulation(&case)?;
     checkpoint::restore(&mut sim, &bytes)
         .with_context(|| format!("restoring {CHECKPOINT_FILE}"))?;
     // By step, which is exact: the times in the file are rounded to 9 digits, and a row at the

@@ -8,7 +8,7 @@
 //! inflow run the same code as before and 3D needs no `if` in any stage.
 
 use crate::engine::bodies::traction::FluidView;
-use crate::engine::bodies::{Bodies, Coupling};
+use crate::engine::bodies::{Bodies, Coupling, DiscMotion};
 use crate::engine::boundary::inflow::Inflow;
 use crate::engine::boundary::{Ghosts, Wall};
 use crate::engine::dimension::{Dim, Dimension, Matrix, Sym, Vector};
@@ -164,6 +164,14 @@ where
 
     /// After Step 7: bodies take their loads and move.
     fn move_bodies(&mut self, _step: BodyStep<D>) {}
+
+    /// The bodies' motion, for a checkpoint (none without bodies).
+    fn body_motions(&self) -> Vec<DiscMotion> {
+        Vec::new()
+    }
+
+    /// Sets the bodies' motion (a checkpoint's), in order.
+    fn restore_bodies(&mut self, _motions: &[DiscMotion]) {}
 
     /// Whether the particle count grows (an inflow feeds particles).
     fn grows(&self) -> bool {
@@ -364,6 +372,22 @@ impl Features<2> for PlaneFeatures {
 
     fn grows(&self) -> bool {
         self.inflow.is_some()
+    }
+
+    fn body_motions(&self) -> Vec<DiscMotion> {
+        let motion = |d: &crate::engine::bodies::Disc| DiscMotion {
+            centre: d.circle.centre,
+            velocity: d.velocity,
+            spin: d.spin,
+            acceleration: d.acceleration,
+        };
+        self.bodies.discs.iter().map(motion).collect()
+    }
+
+    fn restore_bodies(&mut self, motions: &[DiscMotion]) {
+        for (d, m) in self.bodies.discs.iter_mut().zip(motions) {
+            d.set_motion(m);
+        }
     }
 
     fn check_particles(&self, state: &State, domain: &Domain) -> Result<(), String> {

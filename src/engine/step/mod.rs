@@ -382,6 +382,17 @@ where
         self.stages.features.grows()
     }
 
+    /// The rigid bodies' motion (V^n, Ω^n, c^n and the acceleration), in order; empty
+    /// without bodies.
+    pub fn body_motions(&self) -> Vec<DiscMotion> {
+        self.stages.features.body_motions()
+    }
+
+    /// Sets the bodies' motion (a checkpoint's), in order.
+    pub fn restore_bodies(&mut self, motions: &[DiscMotion]) {
+        self.stages.features.restore_bodies(motions);
+    }
+
     pub fn particles(&self) -> usize {
         self.state.position.len()
     }
@@ -919,13 +930,6 @@ impl Simulation<2> {
     /// The rigid discs (V^n, Ω^n, c^n) and the loads of the last step.
     pub fn bodies(&self) -> &Bodies {
         &self.stages.features.bodies
-    }
-
-    /// Sets the discs' motion (a checkpoint's), in order.
-    pub fn restore_discs(&mut self, discs: &[DiscMotion]) {
-        for (d, m) in self.stages.features.bodies.discs.iter_mut().zip(discs) {
-            d.set_motion(m);
-        }
     }
 
     /// Steers prescribed disc `k`: its velocity V and spin Ω from the next step on, as if the
