@@ -9,7 +9,7 @@
 #   plots/regenerate.sh surfaces   # drops and jets
 #   plots/regenerate.sh models     # the models', Couette's, the cavity's and the GN channels' cases (10 min)
 #   plots/regenerate.sh discs      # the free disc in shear, migration, near contact, sedimentation (30 min)
-#   plots/regenerate.sh three-d    # the channel in 3D beside 2D at H/dr = 10, 15, 20
+#   plots/regenerate.sh three-d    # the channel in 3D beside 2D at H/dr = 10, 15, 20; the pipe
 # Then `rheosph gallery` rewrites the validation pages' generated tables from the runs and
 # lists every committed number that changed.
 set -euo pipefail
@@ -357,6 +357,9 @@ for d in 3 2; do
   $R study convergence $C --resolutions 10,15,20 $I --set scene.dimension=$d \
     --set scene.length=1.2 --out plots/three-d/channel-${d}d
 done
+# Start-up Poiseuille in a circular pipe (Re = Wi = 1 on the radius, beta = 0.1) against its
+# Bessel series, with the wall shear stress.
+$R study convergence cases/pipe.toml --resolutions 12,16,20 $I --out plots/three-d/pipe
 rm -f plots/three-d/*/runs/*/final_state.bin plots/three-d/*/runs/*/checkpoint.bin
 fi
 

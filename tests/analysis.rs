@@ -29,7 +29,7 @@ fn surface_integral_matches_closed_forms() {
         ],
     )
     .unwrap();
-    let mut sim = Simulation::new(c.setup());
+    let mut sim = Simulation::new(c.setup().unwrap());
     let centre = Vec2::new(3.0, 2.0);
     let (a, k) = (0.7, 0.3);
     let lambda = sim.fluid.relaxation_time;
@@ -81,7 +81,7 @@ fn surface_integral_matches_closed_forms() {
 fn reproduces_linear_fields_away_from_the_solid() {
     let text = include_str!("../cases/cylinder-array.toml");
     let c = case::parse(text, "c", "c", &["scene.resolution=36".into()]).unwrap();
-    let mut sim = Simulation::new(c.setup());
+    let mut sim = Simulation::new(c.setup().unwrap());
     for i in 0..sim.particles() {
         let x = sim.state.position[i].x;
         sim.state.velocity[i] = Vec2::new(0.5 + 0.25 * x, 0.0);

@@ -15,7 +15,7 @@ const CHECKPOINT_STEP: u64 = 30;
 const END_STEP: u64 = 80;
 
 fn simulation(case: &Case) -> Simulation {
-    Simulation::new(case.setup())
+    Simulation::new(case.setup().unwrap())
 }
 
 fn advance(sim: &mut Simulation, to_step: u64) {

@@ -24,7 +24,7 @@ fn disc_in_shear(overrides: &[&str]) -> Case {
 #[test]
 fn free_disc_turns_with_the_shear() {
     let case = disc_in_shear(&["run.end_time=6"]);
-    let mut sim = Simulation::new(case.setup());
+    let mut sim = Simulation::new(case.setup().unwrap());
     let shear = 2.0 / 8.0;
     let mut late = Vec::new();
     while sim.state.time < 6.0 {
@@ -63,7 +63,7 @@ fn towed_disc_force_is_the_fluids_momentum_change() {
             "motion = \"prescribed\"\nvelocity = [1.0, 0.0]",
         );
     let case = case::parse(&text, "towed.toml", "towed", &[]).unwrap();
-    let mut sim = Simulation::new(case.setup());
+    let mut sim = Simulation::new(case.setup().unwrap());
     let mass = sim.fluid.density * sim.particle_volume();
     let momentum = |sim: &Simulation| mass * sim.state.velocity.iter().map(|u| u.x).sum::<f64>();
     // (the push of disc and walls on the fluid, the disc's drag)
@@ -115,7 +115,7 @@ fn towed_disc_crosses_the_periodic_end() {
                 "motion = \"prescribed\"\nvelocity = [1.0, 0.0]",
             );
         let case = case::parse(&text, "towed.toml", "towed", &[]).unwrap();
-        let mut sim = Simulation::new(case.setup());
+        let mut sim = Simulation::new(case.setup().unwrap());
         let mut history = Vec::new();
         while sim.state.time < 2.0 {
             sim.step(f64::INFINITY).unwrap();
@@ -141,14 +141,14 @@ fn towed_disc_crosses_the_periodic_end() {
 fn disc_motion_survives_a_checkpoint() {
     let text = DISC_IN_SHEAR.replace("motion = \"free-rotation\"", "motion = \"free\"");
     let case = case::parse(&text, "free.toml", "free", &[]).unwrap();
-    let mut a = Simulation::new(case.setup());
+    let mut a = Simulation::new(case.setup().unwrap());
     for _ in 0..5 {
         a.step(f64::INFINITY).unwrap();
     }
     let bytes = checkpoint::encode(&a);
     // As the run loop does at every checkpoint: both start the same preconditioner history.
     a.reset_preconditioners();
-    let mut b = Simulation::new(case.setup());
+    let mut b = Simulation::new(case.setup().unwrap());
     checkpoint::restore(&mut b, &bytes).unwrap();
     assert_eq!(a.bodies().discs, b.bodies().discs);
     for _ in 0..3 {
@@ -188,7 +188,7 @@ fn a_settling_disc_feels_the_drag_of_a_fixed_one_in_its_frame() {
         case::parse(text, "cases/disc-sedimentation.toml", "sedimentation", &o).unwrap()
     };
     let text = SEDIMENTATION.replace("centre = [12.0, 4.0]", "centre = [4.0, 4.0]");
-    let mut free = Simulation::new(parse(&text, &[]).setup());
+    let mut free = Simulation::new(parse(&text, &[]).setup().unwrap());
     let mut late = Vec::new();
     while free.state.time < 6.0 {
         free.step(f64::INFINITY).unwrap();
@@ -211,7 +211,7 @@ fn a_settling_disc_feels_the_drag_of_a_fixed_one_in_its_frame() {
             "motion = \"free\"\ndensity_ratio = 2.0",
             "motion = \"fixed\"",
         );
-    let mut fixed = Simulation::new(parse(&fixed_text, &[]).setup());
+    let mut fixed = Simulation::new(parse(&fixed_text, &[]).setup().unwrap());
     while fixed.state.time < 6.0 {
         fixed.step(f64::INFINITY).unwrap();
     }
@@ -249,7 +249,7 @@ fn settling_rows(coupling_added_mass: f64) -> Case {
 /// The largest step-to-step change of any disc's vertical fluid force over the last steps
 /// run to t = 4 (or to a breakdown), and the discs' forces at the end.
 fn settle(coupling_added_mass: f64) -> (f64, Vec<f64>) {
-    let mut sim = Simulation::new(settling_rows(coupling_added_mass).setup());
+    let mut sim = Simulation::new(settling_rows(coupling_added_mass).setup().unwrap());
     let force = |s: &Simulation| -> Vec<f64> {
         s.bodies().loads.iter().map(|l| l.force.total().y).collect()
     };
@@ -319,7 +319,7 @@ fn a_disc_settling_onto_a_wall_is_held_by_lubrication() {
         density = 1.0\nviscosity = 10.0\n[scheme]\nviscosity = \"implicit\"\n\
         [run]\nend_time = 50.0\noutput_interval = 0.25\n";
     let case = case::parse(text, "settling-on-wall.toml", "settle", &[]).unwrap();
-    let mut sim = Simulation::new(case.setup());
+    let mut sim = Simulation::new(case.setup().unwrap());
     let weight = 10.0 * std::f64::consts::PI;
     let (mut ratio, mut tangential) = (None, 0.0f64);
     while sim.state.time < 50.0 {

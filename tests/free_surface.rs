@@ -14,7 +14,7 @@ fn free_drop_setup(velocity: Vec2, overrides: &[String]) -> Setup {
     let mut all = vec!["scene.resolution=20".to_string()];
     all.extend_from_slice(overrides);
     let case = case::load(Path::new("cases/drop-impact.toml"), &all).unwrap();
-    let mut setup = case.setup();
+    let mut setup = case.setup().unwrap();
     setup.velocity.iter_mut().for_each(|u| *u = velocity);
     setup.body_force = Vec2::zeros();
     setup

@@ -15,7 +15,7 @@ fn cylinder_array(steps: usize) -> Simulation {
     let text = include_str!("../cases/cylinder-array.toml");
     let overrides = vec!["scene.resolution=36".to_string()];
     let case = case::parse(text, "cases/cylinder-array.toml", "cylinder", &overrides).unwrap();
-    let mut sim = Simulation::new(case.setup());
+    let mut sim = Simulation::new(case.setup().unwrap());
     for _ in 0..steps {
         sim.step(f64::INFINITY).unwrap();
     }

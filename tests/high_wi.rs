@@ -25,7 +25,7 @@ fn developed_channel_at_wi_64_is_stable_at_the_default_step() {
         "fluid.relaxation_time=64",
         "run.end_time=2",
     ]);
-    let mut sim = Simulation::new(case.setup());
+    let mut sim = Simulation::new(case.setup().unwrap());
     let f = case.fluid;
     let (g, height) = (case.scene.body_force().x, case.scene.height());
     let nu = f.viscosity / f.density;

@@ -18,7 +18,7 @@ fn inflow_delivers_the_prescribed_flux_symmetrically() {
         &["scene.resolution=10".into()],
     )
     .unwrap();
-    let mut sim = Simulation::new(case.setup());
+    let mut sim = Simulation::new(case.setup().unwrap());
     let (d, u0) = (0.006, 0.2);
     let dr = d / 10.0;
     while sim.state.time < 0.05 - 1e-12 {

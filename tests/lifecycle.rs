@@ -48,7 +48,7 @@ fn bad_case_corpus_is_answered_by_one_line_each() {
 fn vtu_snapshot_round_trips_through_a_vtk_reader() {
     use vtkio::model::{Attribute, DataSet, IOBuffer, Piece};
     let case = poiseuille(&["scene.resolution=12", "run.end_time=0.05"]);
-    let mut sim = Simulation::new(case.setup());
+    let mut sim = Simulation::new(case.setup().unwrap());
     for _ in 0..20 {
         sim.step(f64::INFINITY).unwrap();
     }
@@ -229,7 +229,7 @@ fn mutated_case_files_never_panic() {
                 let parsed = case::parse(&candidate, "fuzz.toml", "fuzz", &[]);
                 if let Ok(c) = &parsed {
                     if c.scene.particles() <= 20_000 {
-                        let mut sim = Simulation::new(c.setup());
+                        let mut sim = Simulation::new(c.setup().unwrap());
                         for _ in 0..3 {
                             if sim.step(c.end_time).is_err() {
                                 break;

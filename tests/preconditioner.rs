@@ -13,7 +13,7 @@ fn run(preconditioner: &str, steps: usize) -> (Vec<rheosph::engine::math::Vec2>,
         "scheme.viscosity=implicit",
         &format!("scheme.ppe.preconditioner={preconditioner}"),
     ]);
-    let mut sim = Simulation::new(case.setup());
+    let mut sim = Simulation::new(case.setup().unwrap());
     let mut iterations = 0;
     for _ in 0..steps {
         iterations += sim

@@ -23,7 +23,7 @@ fn steady_wall_stress(resolution: usize, wall: &str) -> f64 {
         "fluid.relaxation_time=0.2",
         &format!("scheme.walls.conformation={wall}"),
     ]);
-    let mut sim = Simulation::new(case.setup());
+    let mut sim = Simulation::new(case.setup().unwrap());
     let end = 4.0;
     while sim.state.time < end {
         sim.step(end - sim.state.time).expect("stable");

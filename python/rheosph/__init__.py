@@ -178,7 +178,8 @@ class Result:
 
     def particles(self) -> dict[str, np.ndarray]:
         """The final state's particles: x, y, u, v, pressure, tau_xx, tau_xy, tau_yy,
-        trace_A, det_A (arrays of one value per particle)."""
+        trace_A, det_A (arrays of one value per particle); for a 3D run x, y, z, u, v, w,
+        pressure, the six tau_ab, the six A_ab (viscoelastic), trace_A and det_A."""
         return {
             name: np.frombuffer(data, dtype="<f8").copy()
             for name, data in _native.particles(str(self.path))
@@ -306,20 +307,27 @@ class Simulation:
         """Why the run broke down, or None."""
         return self._run.breakdown
 
+    @property
+    def dimension(self) -> int:
+        """2 or 3 (the case's ``scene.dimension``)."""
+        return self._run.dimension
+
     def particles(self) -> dict[str, np.ndarray]:
         """The particles now: x, y, u, v, pressure, vorticity, tau_xx, tau_xy, tau_yy,
         trace_A, det_A; for a viscoelastic fluid A_xx, A_xy, A_yy; in a free-surface scene
         after its first step, free_surface and near_surface (1.0 for the particles the last
-        step found on, or next to, the surface; 0.0 otherwise). Every particle here is fluid:
-        walls and discs are represented by mirrors, which are not particles of the state."""
+        step found on, or next to, the surface; 0.0 otherwise). In 3D: x, y, z, u, v, w,
+        pressure, the six tau_ab and, viscoelastic, the six A_ab, trace_A and det_A. Every
+        particle here is fluid: walls and discs are represented by mirrors, which are not
+        particles of the state."""
         return {
             name: np.frombuffer(data, dtype="<f8").copy() for name, data in self._run.particles()
         }
 
-    def set_body_force(self, fx: float, fy: float) -> None:
+    def set_body_force(self, fx: float, fy: float, fz: Optional[float] = None) -> None:
         """The body force per unit mass for the steps that follow (a case's
-        ``scene.body_force``)."""
-        self._run.set_body_force(float(fx), float(fy))
+        ``scene.body_force``); ``fz`` in 3D only."""
+        self._run.set_body_force(float(fx), float(fy), None if fz is None else float(fz))
 
     def set_disc_motion(self, k: int, velocity: Sequence[float], spin: float = 0.0) -> None:
         """Steers prescribed disc ``k`` (``scene.discs[k]``): its velocity ``(vx, vy)`` and

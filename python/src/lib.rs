@@ -8,9 +8,11 @@ use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 use rheosph::analysis::grid;
 use rheosph::app::plot::FigureFormat;
+use rheosph::app::run::dimension::RunDimension;
 use rheosph::app::run::run_loop::{Run, Start};
 use rheosph::app::run::{self as runs, checkpoint, ProgressHook, RunOptions, CASE_FILE};
-use rheosph::engine::step::Simulation;
+use rheosph::engine::dimension::{Dim, SymTensor};
+use rheosph::engine::step::{Simulation, StepDimension};
 use rheosph::setup::case::{self, Case};
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
@@ -115,8 +117,8 @@ fn run(
     })
 }
 
-/// The final state of a finished run (its `final_state.bin`, with its `case.toml`).
-fn final_state(dir: &Path) -> PyResult<Simulation> {
+/// The case of the finished run in `dir` (its `case.toml`) and its `final_state.bin`.
+fn finished_case(dir: &Path) -> PyResult<(Case, PathBuf)> {
     let path = dir.join(checkpoint::FINAL_STATE_FILE);
     if !path.exists() {
         return Err(PyRuntimeError::new_err(format!(
@@ -126,16 +128,88 @@ fn final_state(dir: &Path) -> PyResult<Simulation> {
         )));
     }
     let case: Case = case::load(&dir.join(CASE_FILE), &[]).map_err(case_error)?;
-    let mut sim = Simulation::new(case.setup());
+    Ok((case, path))
+}
+
+/// The final state of a finished run in D dimensions.
+fn final_state_in<const D: usize>(dir: &Path) -> PyResult<Simulation<D>>
+where
+    Dim<D>: RunDimension<D>,
+{
+    let (case, path) = finished_case(dir)?;
+    let mut sim = Dim::<D>::simulation(&case).map_err(runtime_error)?;
     checkpoint::read(&path, &mut sim)
         .map_err(|e| PyRuntimeError::new_err(format!("{}: {e}", path.display())))?;
     Ok(sim)
 }
 
-/// The particles of a finished run: (name, bytes) pairs for x, y and the grid fields (the
-/// vorticity is zero: it needs a step's velocity gradient, which the state does not keep).
+/// The final state of a finished 2D run.
+fn final_state(dir: &Path) -> PyResult<Simulation> {
+    final_state_in::<2>(dir)
+}
+
+/// (name, values) of the particles of `sim` in D dimensions: the coordinates x, y (z), the
+/// velocity u, v (w), the pressure, the polymer stress τ_ab (a ≤ b) and, viscoelastic, the
+/// conformation A_ab with tr A and det A.
+fn particle_arrays<const D: usize>(sim: &Simulation<D>) -> Vec<(String, Vec<f64>)>
+where
+    Dim<D>: StepDimension<D>,
+{
+    const AXES: [&str; 3] = ["x", "y", "z"];
+    const VELOCITY: [&str; 3] = ["u", "v", "w"];
+    let s = &sim.state;
+    let mut fields: Vec<(String, Vec<f64>)> = Vec::new();
+    for a in 0..D {
+        fields.push((AXES[a].into(), s.position.iter().map(|p| p[a]).collect()));
+    }
+    for a in 0..D {
+        fields.push((
+            VELOCITY[a].into(),
+            s.velocity.iter().map(|u| u[a]).collect(),
+        ));
+    }
+    fields.push(("pressure".into(), s.pressure.clone()));
+    let tensors = |name: &str, t: &[rheosph::engine::dimension::Sym<D>]| {
+        let mut out = Vec::new();
+        for (a, first) in AXES.iter().enumerate().take(D) {
+            for (b, second) in AXES.iter().enumerate().take(D).skip(a) {
+                let values = t.iter().map(|t| t.entry(a, b)).collect();
+                out.push((format!("{name}_{first}{second}"), values));
+            }
+        }
+        out
+    };
+    fields.extend(tensors("tau", &sim.polymer_stress()));
+    if !s.conformation.is_empty() {
+        fields.extend(tensors("A", &s.conformation));
+        fields.push((
+            "trace_A".into(),
+            s.conformation.iter().map(|a| a.trace()).collect(),
+        ));
+        fields.push((
+            "det_A".into(),
+            s.conformation.iter().map(|a| a.det()).collect(),
+        ));
+    }
+    fields
+}
+
+fn to_bytes(py: Python<'_>, fields: &[(String, Vec<f64>)]) -> Vec<(String, Py<PyBytes>)> {
+    fields
+        .iter()
+        .map(|(n, v)| (n.clone(), f64_bytes(py, v).unbind()))
+        .collect()
+}
+
+/// The particles of a finished run: (name, bytes) pairs. In 2D x, y and the grid fields
+/// (the vorticity is zero: it needs a step's velocity gradient, which the state does not
+/// keep); in 3D [`particle_arrays`].
 #[pyfunction]
 fn particles(py: Python<'_>, run_dir: PathBuf) -> PyResult<Vec<(String, Py<PyBytes>)>> {
+    if finished_case(&run_dir)?.0.scene.dimension() == 3 {
+        let sim = final_state_in::<3>(&run_dir)?;
+        return Ok(to_bytes(py, &particle_arrays(&sim)));
+    }
     let sim = final_state(&run_dir)?;
     let x: Vec<f64> = sim.state.position.iter().map(|p| p.x).collect();
     let y: Vec<f64> = sim.state.position.iter().map(|p| p.y).collect();
@@ -163,6 +237,11 @@ fn grid_fields(
     (usize, usize),
     Vec<(String, Py<PyBytes>)>,
 )> {
+    if finished_case(&run_dir)?.0.scene.dimension() == 3 {
+        return Err(PyRuntimeError::new_err(
+            "grid fields are 2D: a 3D run's state is its particles() and its .vtu snapshots",
+        ));
+    }
     let sim = final_state(&run_dir)?;
     let spacing = spacing.unwrap_or(sim.spacing);
     if spacing.is_nan() || spacing <= 0.0 {
@@ -191,13 +270,53 @@ fn over() -> PyErr {
     PyRuntimeError::new_err("the simulation's outputs are written; it is over")
 }
 
+/// The command line's run loop in the case's dimension.
+enum AnyRun {
+    Plane(Box<Run<2>>),
+    Space(Box<Run<3>>),
+}
+
+/// `$body` with `$r` bound to the run of `$run` (an `AnyRun`), whichever its dimension.
+macro_rules! each {
+    ($run:expr, |$r:ident| $body:expr) => {
+        match $run {
+            AnyRun::Plane($r) => $body,
+            AnyRun::Space($r) => $body,
+        }
+    };
+}
+
+impl AnyRun {
+    fn new(case: &Case, options: &RunOptions) -> anyhow::Result<Self> {
+        Ok(if case.scene.dimension() == 3 {
+            AnyRun::Space(Box::new(Run::new(case, options, Start::Fresh)?))
+        } else {
+            AnyRun::Plane(Box::new(Run::new(case, options, Start::Fresh)?))
+        })
+    }
+
+    fn resume(options: &RunOptions) -> anyhow::Result<Self> {
+        Ok(if runs::checkpointed_dimension(options)? == 3 {
+            let (case, start) = runs::resumed_in::<3>(options)?;
+            AnyRun::Space(Box::new(Run::new(&case, options, start)?))
+        } else {
+            let (case, start) = runs::resumed(options)?;
+            AnyRun::Plane(Box::new(Run::new(&case, options, start)?))
+        })
+    }
+
+    fn time(&self) -> f64 {
+        each!(self, |r| r.sim.state.time)
+    }
+}
+
 /// A live simulation: the command line's run loop (`Run`), stepped from Python one step at
-/// a time. Every step and every output is the command line's own, so a simulation stepped
-/// to the end writes the same files, bit for bit, as `rheosph run`.
+/// a time, in the case's dimension. Every step and every output is the command line's own,
+/// so a simulation stepped to the end writes the same files, bit for bit, as `rheosph run`.
 #[pyclass(unsendable, module = "rheosph._native")]
 struct LiveRun {
     /// None once the outputs have been written.
-    run: Option<Run>,
+    run: Option<AnyRun>,
     /// The steps run on a worker of this pool, as the command line's do
     /// (`runs::on_pool_worker`): a parallel loop started from a worker does not sleep on a
     /// lock while the pool works.
@@ -205,11 +324,11 @@ struct LiveRun {
 }
 
 impl LiveRun {
-    fn run(&mut self) -> PyResult<&mut Run> {
+    fn run(&mut self) -> PyResult<&mut AnyRun> {
         self.run.as_mut().ok_or_else(over)
     }
 
-    fn with_pool(run: Run) -> PyResult<Self> {
+    fn with_pool(run: AnyRun) -> PyResult<Self> {
         let pool = rayon::ThreadPoolBuilder::new()
             .build()
             .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
@@ -223,7 +342,7 @@ impl LiveRun {
     fn step_once(&mut self, py: Python<'_>) -> PyResult<bool> {
         let pool = &self.pool;
         let run = self.run.as_mut().ok_or_else(over)?;
-        py.detach(|| pool.install(|| run.step()))
+        py.detach(|| pool.install(|| each!(run, |r| r.step())))
             .map_err(runtime_error)
     }
 
@@ -236,6 +355,31 @@ impl LiveRun {
             progress: None,
         }
     }
+}
+
+/// The particles of a live 2D simulation: x, y, the grid fields, the conformation's
+/// components and the free-surface flags.
+fn plane_particles(sim: &Simulation) -> Vec<(String, Vec<f64>)> {
+    let s = &sim.state;
+    let mut fields: Vec<(&str, Vec<f64>)> = vec![
+        ("x", s.position.iter().map(|p| p.x).collect()),
+        ("y", s.position.iter().map(|p| p.y).collect()),
+    ];
+    fields.extend(grid::particle_fields(sim));
+    if !s.conformation.is_empty() {
+        fields.push(("A_xx", s.conformation.iter().map(|a| a.xx).collect()));
+        fields.push(("A_xy", s.conformation.iter().map(|a| a.xy).collect()));
+        fields.push(("A_yy", s.conformation.iter().map(|a| a.yy).collect()));
+    }
+    if let Some(surface) = sim.surface() {
+        let flag = |b: &[bool]| b.iter().map(|&b| f64::from(u8::from(b))).collect();
+        fields.push(("free_surface", flag(&surface.on_surface)));
+        fields.push(("near_surface", flag(&surface.near_surface)));
+    }
+    fields
+        .into_iter()
+        .map(|(n, v)| (n.to_string(), v))
+        .collect()
 }
 
 #[pymethods]
@@ -252,8 +396,7 @@ impl LiveRun {
     ) -> PyResult<Self> {
         let case = case::parse(text, file, name, &overrides).map_err(case_error)?;
         let options = Self::options(out, snapshots);
-        let run = Run::new(&case, &options, Start::Fresh).map_err(runtime_error)?;
-        Self::with_pool(run)
+        Self::with_pool(AnyRun::new(&case, &options).map_err(runtime_error)?)
     }
 
     /// The simulation checkpointed in `out` (`checkpoint.bin` and its `case.toml`).
@@ -261,9 +404,7 @@ impl LiveRun {
     #[pyo3(signature = (out, snapshots=false))]
     fn resume(out: PathBuf, snapshots: bool) -> PyResult<Self> {
         let options = Self::options(out, snapshots);
-        let (case, start) = runs::resumed(&options).map_err(runtime_error)?;
-        let run = Run::new(&case, &options, start).map_err(runtime_error)?;
-        Self::with_pool(run)
+        Self::with_pool(AnyRun::resume(&options).map_err(runtime_error)?)
     }
 
     /// One step; false when the run is at its end time or has broken down.
@@ -276,13 +417,13 @@ impl LiveRun {
     /// `progress(t, target)` is called after every step. False once the run is over.
     #[pyo3(signature = (t, progress=None))]
     fn advance(&mut self, py: Python<'_>, t: f64, progress: Option<Py<PyAny>>) -> PyResult<bool> {
-        while self.run()?.sim.state.time < t {
+        while self.run()?.time() < t {
             if !self.step_once(py)? {
                 return Ok(false);
             }
             py.check_signals()?;
             if let Some(callback) = &progress {
-                callback.call1(py, (self.run()?.sim.state.time, t))?;
+                callback.call1(py, (self.run()?.time(), t))?;
             }
         }
         Ok(true)
@@ -290,70 +431,78 @@ impl LiveRun {
 
     #[getter]
     fn t(&mut self) -> PyResult<f64> {
-        Ok(self.run()?.sim.state.time)
+        Ok(self.run()?.time())
     }
 
     #[getter]
     fn dt(&mut self) -> PyResult<f64> {
-        Ok(self.run()?.last_dt())
+        Ok(each!(self.run()?, |r| r.last_dt()))
     }
 
     #[getter]
     fn steps(&mut self) -> PyResult<u64> {
-        Ok(self.run()?.sim.state.steps)
+        Ok(each!(self.run()?, |r| r.sim.state.steps))
     }
 
     #[getter]
     fn end_time(&mut self) -> PyResult<f64> {
-        Ok(self.run()?.end_time())
+        Ok(each!(self.run()?, |r| r.end_time()))
     }
 
     #[getter]
     fn breakdown(&mut self) -> PyResult<Option<String>> {
-        Ok(self.run()?.breakdown().map(str::to_string))
+        Ok(each!(self.run()?, |r| r.breakdown().map(str::to_string)))
     }
 
-    /// The particles now: (name, little-endian f64 bytes) of x, y, the fields of the
-    /// snapshots and the conformation's components.
+    /// The space dimensions, 2 or 3.
+    #[getter]
+    fn dimension(&mut self) -> PyResult<usize> {
+        Ok(match self.run()? {
+            AnyRun::Plane(_) => 2,
+            AnyRun::Space(_) => 3,
+        })
+    }
+
+    /// The particles now, (name, little-endian f64 bytes): in 2D x, y, the fields of the
+    /// snapshots, the conformation's components and the free-surface flags; in 3D
+    /// [`particle_arrays`].
     fn particles(&mut self, py: Python<'_>) -> PyResult<Vec<(String, Py<PyBytes>)>> {
-        let sim = &self.run()?.sim;
-        let s = &sim.state;
-        let mut fields: Vec<(&str, Vec<f64>)> = vec![
-            ("x", s.position.iter().map(|p| p.x).collect()),
-            ("y", s.position.iter().map(|p| p.y).collect()),
-        ];
-        fields.extend(grid::particle_fields(sim));
-        if !s.conformation.is_empty() {
-            fields.push(("A_xx", s.conformation.iter().map(|a| a.xx).collect()));
-            fields.push(("A_xy", s.conformation.iter().map(|a| a.xy).collect()));
-            fields.push(("A_yy", s.conformation.iter().map(|a| a.yy).collect()));
-        }
-        if let Some(surface) = sim.surface() {
-            let flag = |b: &[bool]| b.iter().map(|&b| f64::from(u8::from(b))).collect();
-            fields.push(("free_surface", flag(&surface.on_surface)));
-            fields.push(("near_surface", flag(&surface.near_surface)));
-        }
-        Ok(fields
-            .iter()
-            .map(|(n, v)| (n.to_string(), f64_bytes(py, v).unbind()))
-            .collect())
+        let fields = match self.run()? {
+            AnyRun::Plane(r) => plane_particles(&r.sim),
+            AnyRun::Space(r) => particle_arrays(&r.sim),
+        };
+        Ok(to_bytes(py, &fields))
     }
 
-    /// Sets the body force (per unit mass) for the steps that follow.
-    fn set_body_force(&mut self, fx: f64, fy: f64) -> PyResult<()> {
-        if !(fx.is_finite() && fy.is_finite()) {
+    /// Sets the body force (per unit mass) for the steps that follow; `fz` in 3D only.
+    #[pyo3(signature = (fx, fy, fz=None))]
+    fn set_body_force(&mut self, fx: f64, fy: f64, fz: Option<f64>) -> PyResult<()> {
+        let g = [fx, fy, fz.unwrap_or(0.0)];
+        if !g.iter().all(|v| v.is_finite()) {
             return Err(CaseError::new_err(format!(
-                "scene.body_force: must be finite, got [{fx}, {fy}]"
+                "scene.body_force: must be finite, got {g:?}"
             )));
         }
-        let run = self.run()?;
-        run.sim.state.body_force = rheosph::engine::math::Vec2::new(fx, fy);
-        Ok(())
+        match self.run()? {
+            AnyRun::Plane(_) if fz.is_some() => Err(CaseError::new_err(
+                "scene.body_force: a 2D simulation takes two components",
+            )),
+            AnyRun::Plane(r) => {
+                r.sim.state.body_force = rheosph::engine::math::Vec2::new(fx, fy);
+                Ok(())
+            }
+            AnyRun::Space(r) => {
+                r.sim.state.body_force = rheosph::engine::dimension::Vector::<3>::from(g);
+                Ok(())
+            }
+        }
     }
 
-    /// Sets prescribed disc `k`'s velocity and spin for the steps that follow.
+    /// Sets prescribed disc `k`'s velocity and spin for the steps that follow (2D).
     fn set_disc_motion(&mut self, k: usize, vx: f64, vy: f64, spin: f64) -> PyResult<()> {
-        let run = self.run()?;
+        let AnyRun::Plane(run) = self.run()? else {
+            return Err(CaseError::new_err("scene.discs: discs are 2D only"));
+        };
         run.sim
             .set_disc_motion(k, rheosph::engine::math::Vec2::new(vx, vy), spin)
             .map_err(|e| CaseError::new_err(format!("scene.discs[{k}]: {e}")))
@@ -363,12 +512,13 @@ impl LiveRun {
     /// into `dir`; the run goes on.
     fn write_outputs(&mut self, py: Python<'_>, dir: PathBuf) -> PyResult<()> {
         let run = self.run()?;
-        py.detach(|| run.write_outputs(&dir)).map_err(runtime_error)
+        py.detach(|| each!(run, |r| r.write_outputs(&dir)))
+            .map_err(runtime_error)
     }
 
     /// Writes `checkpoint.bin` now; `LiveRun.resume(out)` continues from it.
     fn checkpoint(&mut self) -> PyResult<()> {
-        self.run()?.checkpoint().map_err(runtime_error)
+        each!(self.run()?, |r| r.checkpoint()).map_err(runtime_error)
     }
 
     /// Writes the run's final files (series, profile, charts, summary.json) and ends it:
@@ -378,8 +528,9 @@ impl LiveRun {
             .run
             .take()
             .ok_or_else(|| PyRuntimeError::new_err("already finished"))?;
-        let over = run.breakdown().is_some() || run.sim.state.time >= run.end_time();
-        let summary = run.finish().map_err(runtime_error)?;
+        let over = each!(&run, |r| r.breakdown().is_some()
+            || r.sim.state.time >= r.end_time());
+        let summary = each!(run, |r| r.finish()).map_err(runtime_error)?;
         Ok(match (summary.outcome, over) {
             (runs::Outcome::BrokeDown, _) => 3,
             (_, true) => 0,

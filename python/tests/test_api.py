@@ -418,6 +418,54 @@ class OutputsTest(unittest.TestCase):
             self.assertIn("near_surface", fields)
 
 
+PIPE = ROOT / "cases" / "pipe.toml"
+# The 3D pipe at its coarsest (2R/dr = 12, 1356 particles), a few steps.
+PIPE_QUICK = {"scene.resolution": 12, "run.end_time": 0.15, "run.output_interval": 0.05}
+
+
+class ThreeDTest(unittest.TestCase):
+    def series(self, path):
+        return (Path(path) / "series.csv").read_text()
+
+    def test_a_3d_simulation_steps_checkpoints_and_hands_over_its_arrays(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            cli = rheosph.run(PIPE, Path(tmp) / "cli", overrides=PIPE_QUICK)
+            sim = rheosph.Simulation(PIPE, Path(tmp) / "py", overrides=PIPE_QUICK)
+            self.assertEqual(sim.dimension, 3)
+            self.assertTrue(sim.advance(0.05))
+            sim.checkpoint()
+            shutil.copytree(Path(tmp) / "py", Path(tmp) / "resumed")
+            fields = sim.particles()
+            for name in ("z", "w", "tau_xz", "tau_zz", "A_yz", "trace_A"):
+                self.assertIn(name, fields)
+            self.assertEqual(len(fields["z"]), 1356)
+            self.assertTrue(np.all(fields["det_A"] >= 1.0 - 1e-9))
+            with self.assertRaises(rheosph.CaseError):
+                sim.set_disc_motion(0, (0.0, 0.0))
+            sim.advance(1e9)
+            self.assertEqual(sim.finish().outcome, "finished")
+            self.assertEqual(self.series(cli.path), self.series(Path(tmp) / "py"))
+            resumed = rheosph.Simulation.resume(Path(tmp) / "resumed")
+            self.assertEqual(resumed.dimension, 3)
+            resumed.advance(1e9)
+            resumed.finish()
+            self.assertEqual(self.series(cli.path), self.series(Path(tmp) / "resumed"))
+            final = cli.particles()
+            self.assertEqual(len(final["z"]), 1356)
+            # The axial velocity is the run's: no particle faster than the final centre line.
+            self.assertLessEqual(final["u"].max(), 1.05 * cli.series()["u_centre"][-1])
+
+    def test_a_3d_body_force_takes_three_components(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            sim = rheosph.Simulation(PIPE, Path(tmp) / "s", overrides=PIPE_QUICK)
+            sim.set_body_force(0.0, 0.0, 0.0)
+            sim.advance(0.05)
+            # Without the driving force the fluid at rest stays at rest.
+            self.assertLess(np.abs(sim.particles()["u"]).max(), 1e-9)
+            with self.assertRaises(rheosph.CaseError):
+                sim.set_body_force(0.0, 0.0, float("nan"))
+
+
 class VersionTest(unittest.TestCase):
     def test_the_package_and_the_program_share_one_version(self):
         with tempfile.TemporaryDirectory() as tmp:

@@ -6,6 +6,7 @@ pub mod centreline;
 pub mod diagnostics;
 pub mod forces;
 pub mod grid;
+pub mod pipe_wall;
 pub mod plane;
 pub mod reference;
 pub mod rheometry;

@@ -1,14 +1,15 @@
 //! The analytic reference of a run, in the case's dimensional units: the Waters & King
 //! start-up series for Newtonian, Oldroyd-B and UCM channel flow, the steady channel
-//! solution for the non-linear models (whose start-up has no closed form), and the decaying
+//! solution for the non-linear models (whose start-up has no closed form), the start-up of
+//! pipe flow (its Bessel series, read in the meridional plane (x, r)), and the decaying
 //! Taylor–Green vortex.
 //!
-//! Error norms: for a channel, the streamwise velocity only (King & Lind's L2 error,
+//! Error norms: for a channel or a pipe, the streamwise velocity only (King & Lind's L2 error,
 //! `sqrt(mean (u_i − u_exact(y_i))²)/U`); for Taylor–Green, the whole velocity vector.
 
 use crate::analysis::analytic::taylor_green::velocity as taylor_green_velocity;
 use crate::analysis::analytic::waters_king::{self, Modes, StartupPoiseuille};
-use crate::analysis::analytic::{StartupCouette, SteadyChannel};
+use crate::analysis::analytic::{StartupCouette, StartupPipe, SteadyChannel};
 use crate::analysis::diagnostics;
 use crate::engine::math::Vec2;
 use crate::engine::rheology::{Fluid, Model};
@@ -36,6 +37,14 @@ enum Solution {
         series: StartupCouette,
         heights: Vec<f64>,
     },
+    /// Start-up pipe flow (Newtonian, Oldroyd-B, UCM); positions are (x, r).
+    Pipe {
+        series: StartupPipe,
+        modes: Modes,
+        radii: Vec<f64>,
+        time_scale: f64,
+        stress_scale: f64,
+    },
     /// Amplitude U e^{−2νk²t}, k = 2π/L.
     TaylorGreen {
         length: f64,
@@ -47,6 +56,7 @@ enum Solution {
 /// The reference solution of a case.
 pub struct Reference {
     solution: Solution,
+    /// The channel's height, the pipe's radius, the Taylor–Green box's side.
     height: f64,
     /// The case's velocity scale U.
     pub velocity_scale: f64,
@@ -84,6 +94,30 @@ impl Reference {
             _ => Solution::Steady(SteadyChannel::new(f, body_force, height)?),
         };
         Ok(Self::new(solution, height, u))
+    }
+
+    /// Start-up pipe flow in a pipe of `radius` driven by a body force along its axis: the
+    /// Bessel series of `analytic::pipe`, scaled by the case's `velocity_scale` U (the steady
+    /// centre-line velocity ρgR²/(4η0)) and R; Newtonian, Oldroyd-B and UCM only.
+    pub fn pipe(f: &Fluid, radius: f64, velocity_scale: f64) -> Result<Self, String> {
+        if !matches!(f.model, Model::Newtonian | Model::OldroydB | Model::Ucm)
+            || !f.law.is_constant()
+        {
+            return Err("start-up pipe flow is analytic for Newtonian, Oldroyd-B and UCM".into());
+        }
+        let u = velocity_scale;
+        let solution = Solution::Pipe {
+            series: StartupPipe::new(
+                f.density * u * radius / f.viscosity,
+                f.relaxation_time * u / radius,
+                f.beta,
+            ),
+            modes: Modes::default(),
+            radii: Vec::new(),
+            time_scale: radius / u,
+            stress_scale: f.viscosity * u / radius,
+        };
+        Ok(Self::new(solution, radius, u))
     }
 
     /// Start-up plane Couette flow between walls at y = 0 and `height` sliding at
@@ -141,6 +175,7 @@ impl Reference {
             Solution::StartUp { .. } => "waters-king",
             Solution::Steady(_) => "steady-channel",
             Solution::Couette { .. } => "startup-couette",
+            Solution::Pipe { .. } => "startup-pipe",
             Solution::TaylorGreen { .. } => "taylor-green",
         }
     }
@@ -150,7 +185,27 @@ impl Reference {
         matches!(self.solution, Solution::Steady(_))
     }
 
-    /// Whether the reference describes a channel (profiles across y are meaningful).
+    /// A pipe's total wall shear stress σ_xr(R, t) = η_s ∂u/∂r + τ_p,xr at r = R (negative
+    /// for flow along +x; steady −ρgR/2); None for other references.
+    pub fn wall_shear_stress(&self, t: f64) -> Option<f64> {
+        match &self.solution {
+            Solution::Pipe {
+                series,
+                time_scale,
+                stress_scale,
+                ..
+            } => Some(series.wall_shear_stress(t / time_scale) * stress_scale),
+            _ => None,
+        }
+    }
+
+    /// The extent of its profiles: the channel's height, the pipe's radius.
+    pub fn extent(&self) -> f64 {
+        self.height
+    }
+
+    /// Whether the reference describes a channel or a pipe (profiles across y, or r, are
+    /// meaningful).
     pub fn is_channel(&self) -> bool {
         !matches!(self.solution, Solution::TaylorGreen { .. })
     }
@@ -178,6 +233,21 @@ impl Reference {
             Solution::Steady(ch) => {
                 for (o, p) in out.iter_mut().zip(positions) {
                     *o = Vec2::new(ch.velocity(p.y), 0.0);
+                }
+            }
+            Solution::Pipe {
+                series,
+                modes,
+                radii,
+                time_scale,
+                ..
+            } => {
+                radii.clear();
+                radii.extend(positions.iter().map(|p| p.y / height));
+                self.scratch.resize(positions.len(), 0.0);
+                series.velocity_profile(radii, t / *time_scale, modes, &mut self.scratch);
+                for (o, u) in out.iter_mut().zip(&self.scratch) {
+                    *o = Vec2::new(u * scale, 0.0);
                 }
             }
             Solution::Couette { series, heights } => {
@@ -243,6 +313,9 @@ impl Reference {
             } => series.velocity(0.5, t / time_scale) * self.velocity_scale,
             Solution::Steady(ch) => ch.centre_velocity(),
             Solution::Couette { series, .. } => series.velocity(0.5 * self.height, t),
+            Solution::Pipe {
+                series, time_scale, ..
+            } => series.velocity(0.0, t / time_scale) * self.velocity_scale,
             Solution::TaylorGreen {
                 amplitude,
                 decay_rate,
@@ -269,6 +342,14 @@ impl Reference {
                 let mut out = Vec::new();
                 series.velocity_profile(ys, t, &mut out);
                 out
+            }
+            Solution::Pipe {
+                series, time_scale, ..
+            } => {
+                let m = series.modes(t / time_scale);
+                ys.iter()
+                    .map(|r| series.velocity_from_modes(&m, r / self.height) * self.velocity_scale)
+                    .collect()
             }
             Solution::TaylorGreen { .. } => vec![f64::NAN; ys.len()],
         }
@@ -312,6 +393,26 @@ impl Reference {
                 xx: vec![f64::NAN; ys.len()],
                 yy: vec![0.0; ys.len()],
             }),
+            Solution::Pipe {
+                series,
+                time_scale,
+                stress_scale,
+                ..
+            } => {
+                let radii: Vec<f64> = ys.iter().map(|r| r / self.height).collect();
+                let tau = t / time_scale;
+                let scale = |v: Vec<f64>| v.into_iter().map(|x| x * stress_scale).collect();
+                // The series' τ_zz is the axial normal stress: τ_xx of a pipe along x.
+                Ok(StressProfiles {
+                    xy: scale(series.shear_stress_profile(&radii, tau)),
+                    xx: scale(series.normal_stress_profile(
+                        &radii,
+                        tau,
+                        series.normal_stress_substeps(tau),
+                    )),
+                    yy: vec![0.0; ys.len()],
+                })
+            }
             Solution::TaylorGreen { .. } => Err("no stress profiles for Taylor–Green".into()),
         }
     }

@@ -139,7 +139,7 @@ fn timed_steps(resolution: usize, steps: usize, overrides: &[&str]) -> Result<Ti
         &o,
     )
     .map_err(|e| anyhow::anyhow!("{e}"))?;
-    let mut sim = Simulation::new(case.setup());
+    let mut sim = Simulation::new(case.setup().map_err(anyhow::Error::msg)?);
     developed(&mut sim, &case)?;
     let step = |sim: &mut Simulation| {
         sim.step(f64::INFINITY)
@@ -167,7 +167,7 @@ fn timed_steps(resolution: usize, steps: usize, overrides: &[&str]) -> Result<Ti
 pub fn bench_size(target_particles: usize, steps: usize, lu_max: usize) -> Result<BenchRow> {
     let resolution = (target_particles as f64).sqrt().round().max(8.0) as usize;
     let case = case_at(resolution)?;
-    let setup = case.setup();
+    let setup = case.setup().map_err(anyhow::Error::msg)?;
     let walls = setup.walls.clone();
     let mut sim = Simulation::new(setup);
     developed(&mut sim, &case)?;

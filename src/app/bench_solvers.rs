@@ -94,7 +94,7 @@ fn spmv_bytes(a: &CsMat<f64>) -> f64 {
 fn ppe_system(target: usize) -> Result<(CsMat<f64>, Vec<f64>)> {
     let resolution = (target as f64).sqrt().round().max(8.0) as usize;
     let case = case_at(resolution)?;
-    let setup = case.setup();
+    let setup = case.setup().map_err(anyhow::Error::msg)?;
     let walls = setup.walls.clone();
     let mut sim = Simulation::new(setup);
     developed(&mut sim, &case)?;

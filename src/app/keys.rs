@@ -10,8 +10,8 @@ use crate::engine::rheology::generalised_newtonian::LAWS;
 use crate::engine::rheology::models::{Parameter, MODELS};
 use crate::setup::experimental::ExperimentalSpec;
 use crate::setup::scenes::{
-    cavity::CavitySpec, channel::ChannelSpec, drop::DropSpec, jet::JetSpec, pool::PoolSpec,
-    taylor_green::TaylorGreenSpec,
+    cavity::CavitySpec, channel::ChannelSpec, drop::DropSpec, jet::JetSpec, pipe::PipeSpec,
+    pool::PoolSpec, taylor_green::TaylorGreenSpec,
 };
 use crate::setup::schema::{FluidCommon, RunSpec, SchemeSpec};
 use serde_json::Value;
@@ -70,6 +70,7 @@ impl KeyPage {
 fn scene_schemas() -> Vec<(&'static str, Value)> {
     vec![
         ("channel", schemars::schema_for!(ChannelSpec).to_value()),
+        ("pipe", schemars::schema_for!(PipeSpec).to_value()),
         (
             "taylor-green",
             schemars::schema_for!(TaylorGreenSpec).to_value(),

@@ -69,8 +69,9 @@ impl Case {
 }
 
 impl Case {
-    /// The engine's initial state for this case.
-    pub fn setup(&self) -> Setup {
+    /// The engine's initial state for this case in the plane (refused for a scene written in
+    /// space only, e.g. a pipe).
+    pub fn setup(&self) -> Result<Setup, String> {
         self.scene.build(&self.fluid, &self.scheme, self.scales())
     }
 
@@ -163,6 +164,12 @@ pub fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
         return Err(field_err(
             "scheme.walls.model",
             "this scene's corners and plates need mirrors: `fixed-ghost` has no lattice behind a corner yet",
+        ));
+    }
+    if scene.has_tube() && written.walls.model == WallModel::FixedGhost {
+        return Err(field_err(
+            "scheme.walls.model",
+            "a pipe's wall needs mirrors: `fixed-ghost` has no lattice behind a tube yet",
         ));
     }
     if scene.contact_angle().is_some() && fluid.surface_tension <= 0.0 {

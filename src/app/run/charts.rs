@@ -3,11 +3,12 @@
 
 use super::errors::ExactStresses;
 use super::probes::centreline::{CentrelineColumn, CentrelineRow};
+use crate::analysis::plane::{InPlane, PlaneMap};
 use crate::analysis::reference::Reference;
 use crate::app::io::SeriesRow;
 use crate::app::plot::FigureFormat;
 use crate::app::plot::{self, Chart, Curve, CurveStyle, PALETTE};
-use crate::engine::dimension::{Dim, Sym, SymTensor};
+use crate::engine::dimension::Dim;
 use crate::engine::step::{Simulation, StepDimension};
 use crate::setup::scenes::Scene;
 use anyhow::Result;
@@ -33,7 +34,7 @@ pub fn draw<const D: usize>(
     stresses: Option<&ExactStresses>,
 ) -> Result<()>
 where
-    Dim<D>: StepDimension<D>,
+    Dim<D>: StepDimension<D> + InPlane<D>,
 {
     let (title, axis) = scene.characteristic_name();
     let mut curves = vec![Curve {
@@ -43,10 +44,10 @@ where
         color: PALETTE[0],
     }];
     if let Some(r) = reference {
-        let label = if r.is_steady() {
-            "steady state"
-        } else {
-            "Waters & King"
+        let label = match r.name() {
+            _ if r.is_steady() => "steady state",
+            "startup-pipe" => "Bessel series",
+            _ => "Waters & King",
         };
         curves.insert(
             0,
@@ -89,25 +90,33 @@ where
         )?;
     }
     if scene.varies_across_height() {
-        profiles(dir, format, sim, reference, stresses)
+        profiles(dir, format, sim, scene.plane(), reference, stresses)
     } else {
         Ok(())
     }
 }
 
-/// Final profiles across the channel: every particle against the analytic line.
+/// Final profiles across the channel (or along a pipe's radius): every particle against the
+/// analytic line.
 fn profiles<const D: usize>(
     dir: &Path,
     format: FigureFormat,
     sim: &Simulation<D>,
+    map: PlaneMap,
     reference: Option<&Reference>,
     stresses: Option<&ExactStresses>,
 ) -> Result<()>
 where
-    Dim<D>: StepDimension<D>,
+    Dim<D>: StepDimension<D> + InPlane<D>,
 {
     let s = &sim.state;
-    let height = sim.domain.max[1] - sim.domain.min[1];
+    let box_height = sim.domain.max[1] - sim.domain.min[1];
+    let (across, height) = match map {
+        PlaneMap::Cartesian => ("the channel", box_height),
+        PlaneMap::Meridional { .. } => ("the pipe's radius", 0.5 * box_height),
+    };
+    let x_label = if across == "the channel" { "y" } else { "r" };
+    let plane = Dim::<D>::positions(map, &s.position);
     let profile =
         |name: &str, label: &str, numeric: Vec<(f64, f64)>, exact: Option<Vec<(f64, f64)>>| {
             let mut curves = Vec::new();
@@ -124,8 +133,8 @@ where
                 &dir.join(name),
                 format,
                 &Chart {
-                    title: format!("{label} across the channel at t = {:.3}", s.time),
-                    x_label: "y".into(),
+                    title: format!("{label} across {across} at t = {:.3}", s.time),
+                    x_label: x_label.into(),
                     y_label: label.into(),
                     ..Default::default()
                 },
@@ -142,10 +151,10 @@ where
     profile(
         "profile_velocity.png",
         "u",
-        s.position
+        plane
             .iter()
             .zip(&s.velocity)
-            .map(|(p, u)| (p[1], u[0]))
+            .map(|(p, u)| (p.y, u[0]))
             .collect(),
         exact_u,
     )?;
@@ -162,30 +171,37 @@ where
                 .collect()
         })
     };
-    let numeric = |f: fn(&Sym<D>) -> f64| -> Vec<(f64, f64)> {
+    // (τ_xx, τ_xy, τ_yy) in the plane: (τ_xx, τ_xr, τ_rr) for a pipe.
+    let numeric = |component: usize| -> Vec<(f64, f64)> {
         s.position
             .iter()
+            .zip(plane.iter())
             .zip(&tau)
-            .map(|(p, t)| (p[1], f(t)))
+            .map(|((p, q), t)| (q.y, Dim::<D>::stress(map, p, t)[component]))
             .collect()
+    };
+    let shear = if x_label == "y" {
+        "tau_p,xy"
+    } else {
+        "tau_p,xr"
     };
     profile(
         "profile_tau_xy.png",
-        "tau_p,xy",
-        numeric(|t| t.entry(0, 1)),
+        shear,
+        numeric(1),
         exact(|e| &e.profiles.xy),
     )?;
     profile(
         "profile_tau_xx.png",
         "tau_p,xx",
-        numeric(|t| t.entry(0, 0)),
+        numeric(0),
         exact(|e| &e.profiles.xx),
     )?;
     if matches!(sim.fluid.model, crate::engine::rheology::Model::Giesekus(_)) {
         profile(
             "profile_tau_yy.png",
             "tau_p,yy",
-            numeric(|t| t.entry(1, 1)),
+            numeric(2),
             exact(|e| &e.profiles.yy),
         )?;
     }

@@ -53,7 +53,7 @@ impl RunDimension<2> for Dim<2> {
             "scene.dimension = {}: a live simulation (Python's `Simulation`) and `run --from` take 2D cases",
             case.scene.dimension()
         );
-        Ok(Simulation::new(case.setup()))
+        Ok(Simulation::new(case.setup().map_err(anyhow::Error::msg)?))
     }
 
     fn probes(case: &Case) -> Probes {

@@ -1,6 +1,7 @@
 //! Errors of a finished run against its analytic reference.
 
-use crate::analysis::plane::InPlane;
+use crate::analysis::pipe_wall;
+use crate::analysis::plane::{InPlane, PlaneMap};
 use crate::analysis::reference::{Reference, StressProfiles};
 use crate::app::io::SeriesRow;
 use crate::app::table::{self, fmt};
@@ -44,6 +45,10 @@ pub struct Errors {
     pub tau_xy_relative_l2: Option<f64>,
     pub tau_xx_relative_l2: Option<f64>,
     pub tau_yy_relative_l2: Option<f64>,
+    /// A pipe's total wall shear stress σ_xr(R) at the end (η_s ∂u/∂r + τ_p,xr, negative for
+    /// flow along +x), fitted from the particles (`analysis::pipe_wall`), and the series'.
+    pub wall_shear_stress: Option<f64>,
+    pub wall_shear_stress_exact: Option<f64>,
 }
 
 fn relative(a: f64, b: f64) -> f64 {
@@ -75,7 +80,7 @@ impl ExactStresses {
             return None;
         }
         let t = (sim.state.time - 0.5 * dt).max(0.0);
-        let height = sim.domain.max[1] - sim.domain.min[1];
+        let height = reference.extent();
         let grid: Vec<f64> = (0..=100).map(|k| height * k as f64 / 100.0).collect();
         let profiles = reference.stress_profiles(&grid, t).ok()?;
         Some(Self { grid, profiles })
@@ -89,33 +94,41 @@ impl ExactStresses {
         values[k] * (1.0 - w) + values[k + 1] * w
     }
 
-    /// Relative L2 errors of τ_xy, τ_xx, τ_yy over the particles.
-    fn relative_errors<const D: usize>(&self, sim: &Simulation<D>) -> [Option<f64>; 3]
+    /// Relative L2 errors of τ_xy, τ_xx, τ_yy in the reference's plane over the particles.
+    fn relative_errors<const D: usize>(
+        &self,
+        sim: &Simulation<D>,
+        map: PlaneMap,
+    ) -> [Option<f64>; 3]
     where
-        Dim<D>: StepDimension<D>,
+        Dim<D>: StepDimension<D> + InPlane<D>,
     {
-        let tau = sim.polymer_stress();
-        let norm = |num: &dyn Fn(usize) -> f64, exact: &[f64]| {
+        let s = &sim.state;
+        let heights = Dim::<D>::positions(map, &s.position);
+        let tau: Vec<[f64; 3]> = sim
+            .polymer_stress()
+            .iter()
+            .zip(&s.position)
+            .map(|(t, p)| Dim::<D>::stress(map, p, t))
+            .collect();
+        let norm = |component: usize, exact: &[f64]| {
             let (mut diff, mut base) = (0.0, 0.0);
-            for (i, p) in sim.state.position.iter().enumerate() {
-                let e = self.interpolate(exact, p[1]);
-                diff += (num(i) - e).powi(2);
+            for (t, p) in tau.iter().zip(heights.iter()) {
+                let e = self.interpolate(exact, p.y);
+                diff += (t[component] - e).powi(2);
                 base += e * e;
             }
             (base > 1e-24 * (1.0 + diff)).then(|| (diff / base).sqrt())
         };
         let p = &self.profiles;
-        [
-            norm(&|i| tau[i].entry(0, 1), &p.xy),
-            norm(&|i| tau[i].entry(0, 0), &p.xx),
-            norm(&|i| tau[i].entry(1, 1), &p.yy),
-        ]
+        [norm(1, &p.xy), norm(0, &p.xx), norm(2, &p.yy)]
     }
 }
 
 /// The errors block for a run that ended in `sim`, with its series rows.
 pub fn final_errors<const D: usize>(
     sim: &Simulation<D>,
+    map: PlaneMap,
     reference: Result<&mut Reference, &str>,
     rows: &[SeriesRow],
     dt: f64,
@@ -143,13 +156,16 @@ where
     let first_overshoot = rows.windows(3).find(|w| {
         w[1].u_centre_exact > w[0].u_centre_exact && w[1].u_centre_exact >= w[2].u_centre_exact
     });
-    let plane = |v| Dim::<D>::in_plane(v);
     let s = &sim.state;
-    let u_relative_l2 = reference.relative_l2(&plane(&s.position), &plane(&s.velocity), s.time);
+    let u_relative_l2 = reference.relative_l2(
+        &Dim::<D>::positions(map, &s.position),
+        &Dim::<D>::velocities(map, &s.position, &s.velocity),
+        s.time,
+    );
     let stresses = ExactStresses::at_stress_time(sim, reference, dt);
     let [tau_xy, tau_xx, tau_yy] = stresses
         .as_ref()
-        .map_or([None; 3], |s| s.relative_errors(sim));
+        .map_or([None; 3], |s| s.relative_errors(sim, map));
     let errors = Errors {
         reference: Some(reference.name()),
         reference_unavailable: None,
@@ -169,12 +185,39 @@ where
         tau_xy_relative_l2: tau_xy,
         tau_xx_relative_l2: tau_xx,
         tau_yy_relative_l2: tau_yy,
+        wall_shear_stress: wall_shear(sim, map, reference),
+        wall_shear_stress_exact: reference.wall_shear_stress(s.time),
     };
     (errors, stresses)
 }
 
+/// A pipe's wall shear stress fitted from the particles of `sim` (None without a pipe).
+fn wall_shear<const D: usize>(
+    sim: &Simulation<D>,
+    map: PlaneMap,
+    reference: &Reference,
+) -> Option<f64>
+where
+    Dim<D>: StepDimension<D> + InPlane<D>,
+{
+    reference.wall_shear_stress(0.0)?;
+    let s = &sim.state;
+    let plane = Dim::<D>::positions(map, &s.position);
+    let axial: Vec<f64> = s.velocity.iter().map(|v| v[0]).collect();
+    let tau_xr: Vec<f64> = sim
+        .polymer_stress()
+        .iter()
+        .zip(&s.position)
+        .map(|(t, p)| Dim::<D>::stress(map, p, t)[1])
+        .collect();
+    let eta_s = sim.fluid.solvent_viscosity();
+    pipe_wall::wall_shear_stress(&plane, &axial, &tau_xr, eta_s, reference.extent())
+}
+
 /// One row of `profile.csv`: a particle at the end of the run. The analytic columns are
-/// empty where there is no reference (or no exact stress), so they are options.
+/// empty where there is no reference (or no exact stress), so they are options; they are
+/// the reference's plane's components: for a pipe (x, r), `u_exact` axial, `tau_xy_exact`
+/// τ_xr and `tau_yy_exact` τ_rr, beside the particle's Cartesian ones.
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct ProfileRow {
     #[serde(serialize_with = "fmt::sci8")]
@@ -205,6 +248,24 @@ pub struct ProfileRow {
     pub tau_xy: f64,
     #[serde(serialize_with = "fmt::sci8")]
     pub tau_yy: f64,
+    /// In space only.
+    #[serde(
+        serialize_with = "fmt::opt_sci8",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub tau_xz: Option<f64>,
+    /// In space only.
+    #[serde(
+        serialize_with = "fmt::opt_sci8",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub tau_yz: Option<f64>,
+    /// In space only.
+    #[serde(
+        serialize_with = "fmt::opt_sci8",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub tau_zz: Option<f64>,
     #[serde(serialize_with = "fmt::opt_sci8")]
     pub tau_xx_exact: Option<f64>,
     #[serde(serialize_with = "fmt::opt_sci8")]
@@ -223,6 +284,7 @@ pub struct ProfileRow {
 /// comparisons.
 pub fn profile_csv<const D: usize>(
     sim: &Simulation<D>,
+    map: PlaneMap,
     reference: Option<&mut Reference>,
     stresses: Option<&ExactStresses>,
 ) -> String
@@ -232,8 +294,9 @@ where
     let s = &sim.state;
     let mut exact_u = Vec::new();
     let has_reference = reference.is_some();
+    let heights = Dim::<D>::positions(map, &s.position);
     if let Some(r) = reference {
-        r.velocity_at(&Dim::<D>::in_plane(&s.position), s.time, &mut exact_u);
+        r.velocity_at(&heights, s.time, &mut exact_u);
     }
     let third = |v: &nalgebra::SVector<f64, D>| (D == 3).then(|| v[D - 1]);
     let tau = sim.polymer_stress();
@@ -243,8 +306,9 @@ where
         .iter()
         .enumerate()
         .map(|(i, p)| {
+            let height = heights[i].y;
             let ex =
-                |f: fn(&ExactStresses) -> &Vec<f64>| stresses.map(|e| e.interpolate(f(e), p[1]));
+                |f: fn(&ExactStresses) -> &Vec<f64>| stresses.map(|e| e.interpolate(f(e), height));
             let (u, t) = (&s.velocity[i], &tau[i]);
             ProfileRow {
                 x: p[0],
@@ -257,6 +321,9 @@ where
                 tau_xx: t.entry(0, 0),
                 tau_xy: t.entry(0, 1),
                 tau_yy: t.entry(1, 1),
+                tau_xz: (D == 3).then(|| t.entry(0, D - 1)),
+                tau_yz: (D == 3).then(|| t.entry(1, D - 1)),
+                tau_zz: (D == 3).then(|| t.entry(D - 1, D - 1)),
                 tau_xx_exact: ex(|e| &e.profiles.xx),
                 tau_xy_exact: ex(|e| &e.profiles.xy),
                 tau_yy_exact: ex(|e| &e.profiles.yy),

@@ -106,13 +106,14 @@ pub fn continue_from(case: &Case, options: &RunOptions, from: &Path) -> Result<S
         from.display(),
         checkpoint::FINAL_STATE_FILE
     );
-    let mut sim = crate::engine::step::Simulation::new(case.setup());
+    let mut sim = crate::engine::step::Simulation::new(case.setup().map_err(anyhow::Error::msg)?);
     let stored = stored_case(from)?;
     if stored.scene.spacing().to_bits() == case.scene.spacing().to_bits() {
         checkpoint::read(&path, &mut sim)
             .map_err(|e| anyhow::anyhow!("continuing from {}: {e}", path.display()))?;
     } else {
-        let mut source = crate::engine::step::Simulation::new(stored.setup());
+        let mut source =
+            crate::engine::step::Simulation::new(stored.setup().map_err(anyhow::Error::msg)?);
         checkpoint::read(&path, &mut source)
             .map_err(|e| anyhow::anyhow!("reading {}: {e}", path.display()))?;
         transfer::transfer(&source, &mut sim)
@@ -137,8 +138,7 @@ fn stored_case(dir: &Path) -> Result<Case> {
 /// case as run in `case.toml`). The continued run writes what the uninterrupted one would
 /// have: the series is cut back to the checkpoint and extended bit for bit.
 pub fn resume(options: &RunOptions) -> Result<Summary> {
-    let (case, _) = checkpointed_case(options)?;
-    if case.scene.dimension() == 3 {
+    if checkpointed_dimension(options)? == 3 {
         let (case, start) = resumed_in::<3>(options)?;
         return run_from(&case, options, start);
     }
@@ -161,8 +161,13 @@ pub fn resumed(options: &RunOptions) -> Result<(Case, Start)> {
     resumed_in::<2>(options)
 }
 
+/// The space dimensions of the run checkpointed in `options.out_dir` (its case's).
+pub fn checkpointed_dimension(options: &RunOptions) -> Result<usize> {
+    Ok(checkpointed_case(options)?.0.scene.dimension())
+}
+
 /// The case and the start of the run in `options.out_dir`, from its last checkpoint.
-fn resumed_in<const D: usize>(options: &RunOptions) -> Result<(Case, Start<D>)>
+pub fn resumed_in<const D: usize>(options: &RunOptions) -> Result<(Case, Start<D>)>
 where
     crate::engine::dimension::Dim<D>: dimension::RunDimension<D>,
 {

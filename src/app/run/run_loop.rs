@@ -336,12 +336,27 @@ where
             io::series_csv(&self.rows).as_bytes(),
         )?;
         self.probes.write(dir)?;
-        let reference = self.reference.as_mut().map_err(|e| e.as_str());
-        let (_, stresses) = errors::final_errors(&self.sim, reference, &self.rows, self.last_dt);
-        let profile =
-            errors::profile_csv(&self.sim, self.reference.as_mut().ok(), stresses.as_ref());
-        io::write_atomic(&dir.join("profile.csv"), profile.as_bytes())?;
+        self.errors_and_profile(dir)?;
         io::write_atomic(&dir.join("state.vtu"), &Dim::<D>::snapshot(&self.sim))
+    }
+
+    /// The errors against the reference now, with `profile.csv` written into `dir`.
+    fn errors_and_profile(
+        &mut self,
+        dir: &std::path::Path,
+    ) -> Result<(errors::Errors, Option<errors::ExactStresses>)> {
+        let map = self.case.scene.plane();
+        let reference = self.reference.as_mut().map_err(|e| e.as_str());
+        let (errors, stresses) =
+            errors::final_errors(&self.sim, map, reference, &self.rows, self.last_dt);
+        let profile = errors::profile_csv(
+            &self.sim,
+            map,
+            self.reference.as_mut().ok(),
+            stresses.as_ref(),
+        );
+        io::write_atomic(&dir.join("profile.csv"), profile.as_bytes())?;
+        Ok((errors, stresses))
     }
 
     fn flush(&mut self) -> Result<()> {
@@ -375,12 +390,7 @@ where
         let probes = self
             .probes
             .finish(&mut self.sim, &self.rows, &dir, charts)?;
-        let reference = self.reference.as_mut().map_err(|e| e.as_str());
-        let (errors, stresses) =
-            errors::final_errors(&self.sim, reference, &self.rows, self.last_dt);
-        let profile =
-            errors::profile_csv(&self.sim, self.reference.as_mut().ok(), stresses.as_ref());
-        io::write_atomic(&dir.join("profile.csv"), profile.as_bytes())?;
+        let (errors, stresses) = self.errors_and_profile(&dir)?;
         let scene = self.case.scene.as_ref();
         let plain = scene.cylinder().is_none() && !scene.has_free_surface();
         if let (Some(format), true) = (charts, plain) {

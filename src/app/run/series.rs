@@ -30,9 +30,10 @@ where
     );
     let where_min_det = diagnostics::min_det_location(&s.position, &s.conformation);
     let where_max_trace = diagnostics::max_trace_location(&s.position, &s.conformation);
+    let map = scene.plane();
     let (position, velocity) = (
-        Dim::<D>::in_plane(&s.position),
-        Dim::<D>::in_plane(&s.velocity),
+        Dim::<D>::positions(map, &s.position),
+        Dim::<D>::velocities(map, &s.position, &s.velocity),
     );
     let (u_centre_exact, l2_error) = match reference {
         Some(r) => (

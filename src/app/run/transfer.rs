@@ -106,7 +106,7 @@ mod tests {
             "scene.mean_flow=1.0".to_string(),
         ];
         let case = case::parse(text, "cylinder-array.toml", "t", &overrides).unwrap();
-        Simulation::new(case.setup())
+        Simulation::new(case.setup().unwrap())
     }
 
     /// Fields quadratic in y (so periodic in x) and a conformation with det A ≥ 1.
@@ -180,7 +180,7 @@ mod tests {
         let text = include_str!("../../../cases/cylinder-array.toml");
         let overrides = ["scene.length=7.0".to_string()];
         let other = case::parse(text, "cylinder-array.toml", "t", &overrides).unwrap();
-        let mut other = Simulation::new(other.setup());
+        let mut other = Simulation::new(other.setup().unwrap());
         let e = transfer(&coarse, &mut other).unwrap_err().to_string();
         assert!(e.contains("domains differ"), "{e}");
     }

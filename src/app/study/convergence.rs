@@ -32,6 +32,15 @@ pub struct Row {
     /// found without a finished run (no numbers).
     #[serde(default)]
     pub outcome: String,
+    /// A pipe's wall shear stress at the end, fitted from the particles, and the series'
+    /// (empty for other scenes).
+    #[serde(serialize_with = "fmt::opt_sci6", default)]
+    pub wall_shear_stress: Option<f64>,
+    #[serde(serialize_with = "fmt::opt_sci6", default)]
+    pub wall_shear_stress_exact: Option<f64>,
+    /// fitted/series − 1.
+    #[serde(serialize_with = "fmt::opt_sci3", default)]
+    pub wall_shear_stress_error: Option<f64>,
 }
 
 impl Row {
@@ -126,6 +135,13 @@ fn table(finished: &[Finished], frames: &[String]) -> Vec<Row> {
                 l2_final: s.errors.l2_final.unwrap_or(f64::NAN),
                 order,
                 outcome: s.outcome.name().into(),
+                wall_shear_stress: s.errors.wall_shear_stress,
+                wall_shear_stress_exact: s.errors.wall_shear_stress_exact,
+                wall_shear_stress_error: s
+                    .errors
+                    .wall_shear_stress
+                    .zip(s.errors.wall_shear_stress_exact)
+                    .map(|(fitted, exact)| fitted / exact - 1.0),
             });
         }
     }

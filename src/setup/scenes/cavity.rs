@@ -138,11 +138,11 @@ impl Scene for Cavity {
         self.bounds.resolution.pow(2)
     }
 
-    fn build(&self, fluid: &Fluid, scheme: &Scheme, scales: Scales) -> Setup {
+    fn build(&self, fluid: &Fluid, scheme: &Scheme, scales: Scales) -> Result<Setup, String> {
         let n = self.bounds.resolution;
         let positions = lattice(n, n, self.spacing());
         let l = self.bounds.length;
-        Setup {
+        Ok(Setup {
             domain: Domain {
                 min: Vec2::zeros(),
                 max: Vec2::new(l, l),
@@ -164,7 +164,7 @@ impl Scene for Cavity {
             gravity: Vec2::zeros(),
             contact_angle: None,
             resolution: Resolution::Uniform,
-        }
+        })
     }
 
     fn reference(&self, _fluid: &Fluid) -> Result<Reference, String> {

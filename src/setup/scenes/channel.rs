@@ -574,7 +574,7 @@ impl Scene for Channel {
         }
     }
 
-    fn build(&self, fluid: &Fluid, scheme: &Scheme, scales: Scales) -> Setup {
+    fn build(&self, fluid: &Fluid, scheme: &Scheme, scales: Scales) -> Result<Setup, String> {
         let (positions, resolution) = match self.graded_plan() {
             Some(plan) => {
                 let (points, graded) = plan.build();
@@ -596,7 +596,7 @@ impl Scene for Channel {
             walls.push(sliding(Shape::Plane(top), self.wall_velocity[1]));
         }
         walls.extend(self.cylinder.map(|c| wall(Shape::Circle(c))));
-        Setup {
+        Ok(Setup {
             domain: self.domain(),
             walls,
             velocity: vec![Vec2::zeros(); positions.len()],
@@ -614,7 +614,7 @@ impl Scene for Channel {
             gravity: self.gravity,
             contact_angle: None,
             resolution,
-        }
+        })
     }
 
     /// Plates at y = 0 and H (or none: periodic in y), periodic along x and z, on a cubic

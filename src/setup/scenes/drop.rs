@@ -213,9 +213,9 @@ impl Scene for Drop {
         true
     }
 
-    fn build(&self, fluid: &Fluid, scheme: &Scheme, scales: Scales) -> Setup {
+    fn build(&self, fluid: &Fluid, scheme: &Scheme, scales: Scales) -> Result<Setup, String> {
         let positions = self.positions();
-        Setup {
+        Ok(Setup {
             domain: open_domain(self.bounds.length, self.bounds.height),
             walls: if self.plate {
                 vec![plate(scheme)]
@@ -237,7 +237,7 @@ impl Scene for Drop {
             gravity: Vec2::zeros(),
             contact_angle: self.contact_angle,
             resolution: Resolution::Uniform,
-        }
+        })
     }
 
     fn reference(&self, _fluid: &Fluid) -> Result<Reference, String> {

@@ -146,11 +146,11 @@ impl Scene for Jet {
         true
     }
 
-    fn build(&self, fluid: &Fluid, scheme: &Scheme, scales: Scales) -> Setup {
+    fn build(&self, fluid: &Fluid, scheme: &Scheme, scales: Scales) -> Result<Setup, String> {
         let s = &self.shape;
         let (inflow, positions) =
             Inflow::new(0.0, s.width, s.orifice_height, self.speed, self.spacing());
-        Setup {
+        Ok(Setup {
             domain: open_domain(self.bounds.length, self.bounds.height),
             walls: vec![plate(scheme)],
             velocity: vec![Vec2::new(0.0, -self.speed); positions.len()],
@@ -168,7 +168,7 @@ impl Scene for Jet {
             gravity: Vec2::zeros(),
             contact_angle: None,
             resolution: Resolution::Uniform,
-        }
+        })
     }
 
     fn reference(&self, _fluid: &Fluid) -> Result<Reference, String> {

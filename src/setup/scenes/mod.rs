@@ -12,9 +12,11 @@ pub mod discs;
 pub mod drop;
 pub mod graded;
 pub mod jet;
+pub mod pipe;
 pub mod pool;
 pub mod taylor_green;
 
+use crate::analysis::plane::PlaneMap;
 use crate::analysis::reference::Reference;
 use crate::engine::boundary::{Circle, Plane, Shape, Wall};
 use crate::engine::kernel::{H_OVER_DR, SUPPORT_OVER_H};
@@ -47,10 +49,12 @@ pub enum SceneSpec {
     /// A pool in a tank, meeting its walls at a contact angle, with plates dipped into it
     /// (capillary rise).
     Pool(pool::PoolSpec),
+    /// The inside of a circular pipe along x, periodic along x (3D only).
+    Pipe(pipe::PipeSpec),
 }
 
 /// The kinds in case files, for the error that names them.
-const KINDS: &str = "`channel`, `taylor-green`, `drop`, `jet`, `cavity` or `pool`";
+const KINDS: &str = "`channel`, `pipe`, `taylor-green`, `drop`, `jet`, `cavity` or `pool`";
 
 impl SceneSpec {
     /// Reads the `[scene]` table: its `kind` first, then the table as that kind's spec, so
@@ -62,7 +66,7 @@ impl SceneSpec {
             Some(_) => return Err(field_err("scene.kind", format!("must be one of {KINDS}"))),
             None => return Err(field_err("scene.kind", format!("missing: one of {KINDS}"))),
         };
-        if kind != "channel" {
+        if kind != "channel" && kind != "pipe" {
             match dimension {
                 None => {}
                 Some(toml::Value::Integer(2)) => {
@@ -71,7 +75,7 @@ impl SceneSpec {
                 Some(_) => {
                     return Err(field_err(
                         "scene.dimension",
-                        format!("scene.kind = \"{kind}\" is 2D only (`channel` is written in 3D)"),
+                        format!("scene.kind = \"{kind}\" is 2D only (`channel` and `pipe` are written in 3D)"),
                     ))
                 }
             }
@@ -84,6 +88,7 @@ impl SceneSpec {
             "jet" => SceneSpec::Jet(read(value)?),
             "cavity" => SceneSpec::Cavity(read(value)?),
             "pool" => SceneSpec::Pool(read(value)?),
+            "pipe" => SceneSpec::Pipe(read(value)?),
             other => {
                 return Err(field_err(
                     "scene.kind",
@@ -102,6 +107,7 @@ impl SceneSpec {
             SceneSpec::Jet(s) => Arc::new(s.validate()?),
             SceneSpec::Cavity(s) => Arc::new(s.validate()?),
             SceneSpec::Pool(s) => Arc::new(s.validate()?),
+            SceneSpec::Pipe(s) => Arc::new(s.validate()?),
         })
     }
 }
@@ -171,8 +177,9 @@ pub trait Scene: fmt::Debug + Send + Sync {
     fn has_free_surface(&self) -> bool {
         false
     }
-    /// The engine's initial state.
-    fn build(&self, fluid: &Fluid, scheme: &Scheme, scales: Scales) -> Setup;
+    /// The engine's initial state in the plane; refused, naming why, where the scene is
+    /// written in space only.
+    fn build(&self, fluid: &Fluid, scheme: &Scheme, scales: Scales) -> Result<Setup, String>;
     /// Space dimensions, `scene.dimension`: 2, or 3 where the scene is written in 3D.
     fn dimension(&self) -> usize {
         2
@@ -188,6 +195,11 @@ pub trait Scene: fmt::Debug + Send + Sync {
         _scales: Scales,
     ) -> Result<FlowSetup<3>, String> {
         Err(format!("scene.kind = \"{}\" is 2D only", self.kind()))
+    }
+    /// The plane its analytic reference and profiles read: (x, y), or a pipe's meridional
+    /// plane (x, r).
+    fn plane(&self) -> PlaneMap {
+        PlaneMap::Cartesian
     }
     /// The analytic reference of the flow, or why there is none.
     fn reference(&self, fluid: &Fluid) -> Result<Reference, String>;
@@ -244,6 +256,11 @@ pub trait Scene: fmt::Debug + Send + Sync {
     /// Whether its walls meet in corners or include plates, which only mirrors handle (the
     /// fixed ghost lattice has none behind a corner yet).
     fn has_corners(&self) -> bool {
+        false
+    }
+    /// Whether a wall is the inside of a pipe, which only mirrors handle (no fixed ghost
+    /// lattice behind a tube yet).
+    fn has_tube(&self) -> bool {
         false
     }
     /// The static contact angle (radians) where the free surface meets a wall.

@@ -301,9 +301,9 @@ impl Scene for Pool {
         Some(self.contact_angle)
     }
 
-    fn build(&self, fluid: &Fluid, scheme: &Scheme, scales: Scales) -> Setup {
+    fn build(&self, fluid: &Fluid, scheme: &Scheme, scales: Scales) -> Result<Setup, String> {
         let positions = self.positions();
-        Setup {
+        Ok(Setup {
             domain: super::open_domain(self.bounds.length, self.bounds.height),
             walls: self.walls(scheme),
             velocity: vec![Vec2::zeros(); positions.len()],
@@ -321,7 +321,7 @@ impl Scene for Pool {
             gravity: Vec2::zeros(),
             contact_angle: Some(self.contact_angle),
             resolution: Resolution::Uniform,
-        }
+        })
     }
 
     fn reference(&self, _fluid: &Fluid) -> Result<Reference, String> {

@@ -99,13 +99,13 @@ impl Scene for TaylorGreen {
         self.columns * self.bounds.resolution
     }
 
-    fn build(&self, fluid: &Fluid, scheme: &Scheme, scales: Scales) -> Setup {
+    fn build(&self, fluid: &Fluid, scheme: &Scheme, scales: Scales) -> Result<Setup, String> {
         let positions = lattice(self.columns, self.bounds.resolution, self.spacing());
         let velocity = positions
             .iter()
             .map(|p| taylor_green::velocity(p, self.bounds.length, self.velocity))
             .collect();
-        Setup {
+        Ok(Setup {
             domain: Domain {
                 min: Vec2::zeros(),
                 max: Vec2::new(self.bounds.length, self.bounds.height),
@@ -127,7 +127,7 @@ impl Scene for TaylorGreen {
             gravity: Vec2::zeros(),
             contact_angle: None,
             resolution: Resolution::Uniform,
-        }
+        })
     }
 
     fn reference(&self, fluid: &Fluid) -> Result<Reference, String> {
