@@ -453,7 +453,7 @@ class ThreeDTest(unittest.TestCase):
             final = cli.particles()
             self.assertEqual(len(final["z"]), 1356)
             # The axial velocity is the run's: no particle faster than the final centre line.
-            self.assertLessEqual(final["u"].max(), 1.05 * cli.series()["u_centre"][-1])
+            self.assertLessEqual(final["u"].max(), 1.05 * cli.series["u_centre"][-1])
 
     def test_a_3d_body_force_takes_three_components(self):
         with tempfile.TemporaryDirectory() as tmp:
