@@ -22,6 +22,7 @@ use crate::engine::operators::pair_viscosity;
 use rayon::prelude::*;
 use rheosph_solver::{SolveError, SolveReport, Solver, SolverOptions};
 use sprs::CsMat;
+use std::cell::RefCell;
 
 /// Reusable CSR buffers of `d I + c L` and a solver for it.
 #[derive(Default)]
@@ -283,22 +284,20 @@ where
             None => push(ghosts.parent[g] as usize, -ghosts.sign(field, g) * w),
         }
     }
-    // The row comes in ascending order up to `sorted` (neighbour rows are sorted by index,
-    // fluid before ghosts), the ghosts' parents and stencils after that in no order. The
-    // diagonal moves into its place in the sorted run, the run's repeated columns merge, and
-    // each later entry is added to its column's entry (found by bisection) or inserted
-    // there: every column's sum in the order a stable sort of the whole row and a merge
-    // give, without the stable sort's moves (an insertion sort of the stencils' entries
-    // was half the time of an implicit viscous step next to continued walls).
-    let run = cols[1..len].windows(2).take_while(|w| w[0] <= w[1]).count();
-    let sorted = len.min(2 + run);
-    let place = 1 + cols[1..sorted].partition_point(|&c| c < i);
+    // Neighbour rows are sorted by index, fluid before ghosts: without ghosts' parents or
+    // stencils after them the row is one ascending run, whose repeated columns merge in
+    // place with the diagonal put in its place; otherwise the row is gathered.
+    let ascending = cols[1..len].windows(2).all(|w| w[0] <= w[1]);
+    if !ascending {
+        return gather_row(i, diagonal, cols, vals, len);
+    }
+    let place = 1 + cols[1..len].partition_point(|&c| c < i);
     cols.copy_within(1..place, 0);
     vals.copy_within(1..place, 0);
     cols[place - 1] = i;
     vals[place - 1] = diagonal;
     let mut kept = 0;
-    for k in 0..sorted {
+    for k in 0..len {
         if kept > 0 && cols[kept - 1] == cols[k] {
             vals[kept - 1] += vals[k];
         } else {
@@ -307,21 +306,64 @@ where
             kept += 1;
         }
     }
-    for a in sorted..len {
-        let (col, val) = (cols[a], vals[a]);
-        match cols[..kept].binary_search(&col) {
-            Ok(at) => vals[at] += val,
-            Err(at) => {
-                // kept ≤ a: the slot written last is one already read.
-                cols.copy_within(at..kept, at + 1);
-                vals.copy_within(at..kept, at + 1);
-                cols[at] = col;
-                vals[at] = val;
-                kept += 1;
+    kept
+}
+
+/// Per worker thread: a row's value by column while it is gathered, and the columns seen.
+#[derive(Default)]
+struct RowAccumulator {
+    value: Vec<f64>,
+    /// `stamp[c] == generation`: column c is in the row being gathered.
+    stamp: Vec<u32>,
+    generation: u32,
+    touched: Vec<usize>,
+}
+
+thread_local! {
+    static ROW: RefCell<RowAccumulator> = RefCell::new(RowAccumulator::default());
+}
+
+/// Sums the row's entries `cols[1..len]`, `vals[1..len]` (in any order, columns repeated)
+/// and the diagonal `diagonal` at column `i` into distinct ascending columns at the front of
+/// the slot; returns their count. Each column's sum takes its entries in their order in the
+/// row, which the neighbour rows' own order fixes, so the matrix is the same bit for bit on
+/// any thread count. A dense accumulator makes it O(m + k log k) for m entries in k columns:
+/// next to a continued wall in space a row's velocity stencils bring thousands of entries
+/// into a few hundred columns, and placing each by bisection took most of the implicit
+/// viscous step.
+fn gather_row(i: usize, diagonal: f64, cols: &mut [usize], vals: &mut [f64], len: usize) -> usize {
+    ROW.with_borrow_mut(|row| {
+        let width = cols[1..len].iter().copied().fold(i, usize::max) + 1;
+        if row.stamp.len() < width {
+            row.stamp.resize(width, 0);
+            row.value.resize(width, 0.0);
+        }
+        row.generation = row.generation.wrapping_add(1);
+        if row.generation == 0 {
+            row.stamp.iter_mut().for_each(|s| *s = 0);
+            row.generation = 1;
+        }
+        let generation = row.generation;
+        row.touched.clear();
+        row.stamp[i] = generation;
+        row.value[i] = diagonal;
+        row.touched.push(i);
+        for (&col, &val) in cols[1..len].iter().zip(&vals[1..len]) {
+            if row.stamp[col] == generation {
+                row.value[col] += val;
+            } else {
+                row.stamp[col] = generation;
+                row.value[col] = val;
+                row.touched.push(col);
             }
         }
-    }
-    kept
+        row.touched.sort_unstable();
+        for (k, &col) in row.touched.iter().enumerate() {
+            cols[k] = col;
+            vals[k] = row.value[col];
+        }
+        row.touched.len()
+    })
 }
 
 /// A test lattice between two plane walls, periodic along them, with its mirrors,
