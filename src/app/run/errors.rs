@@ -166,6 +166,7 @@ where
     let [tau_xy, tau_xx, tau_yy] = stresses
         .as_ref()
         .map_or([None; 3], |s| s.relative_errors(sim, map));
+    let wall_shear_exact = reference.wall_shear_stress(s.time);
     let errors = Errors {
         reference: Some(reference.name()),
         reference_unavailable: None,
@@ -185,22 +186,17 @@ where
         tau_xy_relative_l2: tau_xy,
         tau_xx_relative_l2: tau_xx,
         tau_yy_relative_l2: tau_yy,
-        wall_shear_stress: wall_shear(sim, map, reference),
-        wall_shear_stress_exact: reference.wall_shear_stress(s.time),
+        wall_shear_stress: wall_shear_exact.and_then(|_| wall_shear(sim, map, reference.extent())),
+        wall_shear_stress_exact: wall_shear_exact,
     };
     (errors, stresses)
 }
 
-/// A pipe's wall shear stress fitted from the particles of `sim` (None without a pipe).
-fn wall_shear<const D: usize>(
-    sim: &Simulation<D>,
-    map: PlaneMap,
-    reference: &Reference,
-) -> Option<f64>
+/// The wall shear stress of a pipe of `radius` fitted from the particles of `sim`.
+fn wall_shear<const D: usize>(sim: &Simulation<D>, map: PlaneMap, radius: f64) -> Option<f64>
 where
     Dim<D>: StepDimension<D> + InPlane<D>,
 {
-    reference.wall_shear_stress(0.0)?;
     let s = &sim.state;
     let plane = Dim::<D>::positions(map, &s.position);
     let axial: Vec<f64> = s.velocity.iter().map(|v| v[0]).collect();
@@ -211,7 +207,7 @@ where
         .map(|(t, p)| Dim::<D>::stress(map, p, t)[1])
         .collect();
     let eta_s = sim.fluid.solvent_viscosity();
-    pipe_wall::wall_shear_stress(&plane, &axial, &tau_xr, eta_s, reference.extent())
+    pipe_wall::wall_shear_stress(&plane, &axial, &tau_xr, eta_s, radius)
 }
 
 /// One row of `profile.csv`: a particle at the end of the run. The analytic columns are
