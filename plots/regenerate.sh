@@ -9,7 +9,8 @@
 #   plots/regenerate.sh surfaces   # drops and jets
 #   plots/regenerate.sh models     # the models', Couette's, the cavity's and the GN channels' cases (10 min)
 #   plots/regenerate.sh discs      # the free disc in shear, migration, near contact, sedimentation (30 min)
-#   plots/regenerate.sh three-d    # the channel in 3D beside 2D at H/dr = 10, 15, 20; the pipe
+#   plots/regenerate.sh three-d    # the channel in 3D beside 2D at H/dr = 10, 15, 20; the pipe;
+#                                  # the cubic array of spheres
 # Then `rheosph gallery` rewrites the validation pages' generated tables from the runs and
 # lists every committed number that changed.
 set -euo pipefail
@@ -361,6 +362,18 @@ done
 # Bessel series, with the wall shear stress.
 $R study convergence cases/pipe.toml --resolutions 12,16,20 $I --out plots/three-d/pipe
 rm -f plots/three-d/*/runs/*/final_state.bin plots/three-d/*/runs/*/checkpoint.bin
+# Stokes flow through a simple cubic array of spheres against Zick & Homsy: c = 0.125 at
+# L/dr = 26 and 32, c = 0.216 at L/dr = 32, and c = 0.125 on the lattice cut by the sphere
+# (no shells) at L/dr = 26 (about 80 min on 2 cores).
+A=plots/three-d/sphere-array
+$R run cases/sphere-array.toml --no-snapshots --no-charts --out $A/c0.125-r26
+$R run cases/sphere-array.toml --no-snapshots --no-charts --set scene.resolution=32 \
+  --out $A/c0.125-r32
+$R run cases/sphere-array.toml --no-snapshots --no-charts --set scene.resolution=32 \
+  --set scene.sphere.radius=0.3722103 --out $A/c0.216-r32
+$R run cases/sphere-array.toml --no-snapshots --no-charts --set scene.sphere.shells=0 \
+  --out $A/c0.125-r26-lattice
+rm -f $A/*/final_state.bin $A/*/checkpoint.bin $A/*/profile.csv
 fi
 
 # The validation pages' tables from what ran (the changed numbers are listed).

@@ -1,9 +1,10 @@
-//! Forces on bodies: the drag on the fixed cylinder. The surface-stress integration lives in
-//! [`crate::engine::bodies::traction`], because free discs need it inside the step.
+//! Forces on bodies: the drag on the fixed cylinder and on a fixed sphere. The surface-stress
+//! integration lives in [`crate::engine::bodies::traction`], because free discs need it inside
+//! the step.
 
 use crate::engine::bodies::traction::{on_contour, on_plane_wall};
 pub use crate::engine::bodies::traction::{BodyForce, FluidView, Load};
-use crate::engine::boundary::{Circle, Shape};
+use crate::engine::boundary::{Circle, Shape, Sphere};
 use crate::engine::math::Vec2;
 use crate::engine::step::Simulation;
 use serde::{Deserialize, Serialize};
@@ -157,4 +158,36 @@ pub fn momentum_balance(
         displaced,
         contour,
     }
+}
+
+/// Zick & Homsy (1982), Table 2, simple cubic arrays: the solid fraction c and the drag
+/// coefficient K = F/(6πη a U), U the superficial velocity. The last is close packing,
+/// c = π/6.
+pub const ZICK_HOMSY_SIMPLE_CUBIC: [(f64, f64); 7] = [
+    (0.027, 2.008),
+    (0.064, 2.810),
+    (0.125, 4.292),
+    (0.216, 7.442),
+    (0.343, 15.4),
+    (0.45, 28.1),
+    (std::f64::consts::FRAC_PI_6, 42.1),
+];
+
+/// Zick & Homsy's K at solid fraction `c` where their table has it (within 0.1 % of c).
+pub fn zick_homsy(c: f64) -> Option<f64> {
+    ZICK_HOMSY_SIMPLE_CUBIC
+        .iter()
+        .find(|(ct, _)| (c - ct).abs() < 1e-3 * ct)
+        .map(|&(_, k)| k)
+}
+
+/// The x-drag on a fixed sphere, the only sink of momentum in a box periodic along every
+/// axis, from the box's momentum balance: ρ g_x (V + (4/3)πa³), V = NδV the particles'
+/// volume. The body force stands for a mean pressure gradient, which also pushes the solid
+/// ([`displaced`] in the plane); in a steady state the fluid's momentum does not change, so
+/// the sphere holds the whole drive. While the flow develops the balance includes the
+/// fluid's acceleration, and this is not yet the drag.
+pub fn sphere_drag(sim: &Simulation<3>, sphere: &Sphere) -> f64 {
+    let solid = 4.0 / 3.0 * std::f64::consts::PI * sphere.radius.powi(3);
+    sim.fluid.density * sim.state.body_force[0] * (sim.fluid_volume() + solid)
 }

@@ -10,3 +10,4 @@ pub mod pipe_wall;
 pub mod plane;
 pub mod reference;
 pub mod rheometry;
+pub mod sphere_load;

@@ -94,8 +94,8 @@ impl RunDimension<3> for Dim<3> {
         Simulation::in_space(setup).map_err(anyhow::Error::msg)
     }
 
-    fn probes(_case: &Case) -> Probes<3> {
-        Probes::none()
+    fn probes(case: &Case) -> Probes<3> {
+        Probes::in_space(case)
     }
 
     fn snapshot(sim: &Simulation<3>) -> Vec<u8> {

@@ -392,7 +392,8 @@ where
             .finish(&mut self.sim, &self.rows, &dir, charts)?;
         let (errors, stresses) = self.errors_and_profile(&dir)?;
         let scene = self.case.scene.as_ref();
-        let plain = scene.cylinder().is_none() && !scene.has_free_surface();
+        let plain =
+            scene.cylinder().is_none() && scene.sphere().is_none() && !scene.has_free_surface();
         if let (Some(format), true) = (charts, plain) {
             charts::draw(
                 &dir,

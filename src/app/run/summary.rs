@@ -76,8 +76,9 @@ pub struct Summary {
     /// last search's candidates).
     pub neighbour_searches: usize,
     /// What the probes report, by name: `steady` (channels with a cylinder: steady state,
-    /// time averages, drag and centre-line values), `drop` (the largest width, the final
-    /// shape, the area drift), `jet` (impact, buckling onset, folding frequency).
+    /// time averages, drag and centre-line values), `sphere` (a fixed sphere in 3D: steady
+    /// state, drag against Zick & Homsy), `drop` (the largest width, the final shape, the
+    /// area drift), `jet` (impact, buckling onset, folding frequency).
     #[serde(flatten)]
     pub probes: BTreeMap<&'static str, serde_json::Value>,
     pub version: &'static str,
@@ -113,8 +114,8 @@ impl Summary {
     pub fn read(json: &str, case: &Case) -> Option<Self> {
         let s: Stored = serde_json::from_str(json).ok()?;
         let mut rest = s.rest;
-        let probes = super::probes::Probes::for_case(case)
-            .names()
+        let probes = super::probes::names(case)
+            .into_iter()
             .filter_map(|name| Some((name, rest.remove(name)?)))
             .collect();
         Some(Self {

@@ -69,7 +69,7 @@ impl BodyForce {
 }
 
 /// Weighted least squares with a fixed number of basis functions.
-fn fit<const K: usize>(rows: &[([f64; K], f64, f64)]) -> Option<DVector<f64>> {
+pub fn fit<const K: usize>(rows: &[([f64; K], f64, f64)]) -> Option<DVector<f64>> {
     let mut m = DMatrix::<f64>::zeros(K, K);
     let mut b = DVector::<f64>::zeros(K);
     for (basis, value, weight) in rows {

@@ -18,7 +18,7 @@ pub use condition::{
 };
 pub use continuation::VelocityExtension;
 pub use fixed::WallModel;
-pub use shape::{Circle, Corner, Plane, Plate, Shape, Tube};
+pub use shape::{Circle, Corner, Plane, Plate, Shape, Sphere, Tube};
 
 use crate::engine::dimension::{Dim, Dimension, SymTensor};
 use crate::engine::neighbours::Domain;

@@ -4,6 +4,7 @@
 
 use super::discs::{check_apart, ContactSpec, DiscPlan, DiscSpec};
 use super::graded::GradedPlan;
+use super::sphere::{self, SphereSpec};
 use super::{
     check_box, check_memory_in, check_periodic_extent, check_periodic_length, circle_in_box,
     finite_force, support_in_dr, Scene, SceneBox,
@@ -12,7 +13,7 @@ use crate::analysis::analytic::SteadyChannel;
 use crate::analysis::diagnostics::centre_line_velocity;
 use crate::analysis::reference::Reference;
 use crate::engine::bodies::contact::Contact;
-use crate::engine::boundary::{Circle, Plane, Shape, Wall};
+use crate::engine::boundary::{Circle, Plane, Shape, Sphere, Wall};
 use crate::engine::dimension::Vector;
 use crate::engine::drive::Drive;
 use crate::engine::lattice::lattice;
@@ -40,12 +41,16 @@ pub struct ChannelSpec {
     /// Body force per unit mass g (along x): required unless the walls slide or
     /// `mean_flow` sets it.
     pub body_force: Option<[f64; 2]>,
-    /// With a cylinder: the nominal mean velocity ⟨u⟩ defining Re and Wi.
+    /// With a cylinder or a sphere: the nominal mean velocity ⟨u⟩ defining Re and Wi.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub velocity: Option<f64>,
     /// A solid cylinder in the channel (periodic array of cylinders).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cylinder: Option<CylinderSpec>,
+    /// In 3D, a fixed solid sphere; with `walls = false` the cell of a simple cubic array of
+    /// spheres (Zick & Homsy 1982).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sphere: Option<Box<SphereSpec>>,
     /// Hold the bulk velocity ⟨u⟩ = Q/H at this value by adjusting the body force every step
     /// (`body_force` is then the initial guess; see `engine::drive`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -65,7 +70,8 @@ pub struct ChannelSpec {
     pub gravity: Option<[f64; 2]>,
     /// The plates at y = 0 and H (true, the default); false: periodic in y as well, with a
     /// cylinder a square array of cylinders, whose drag has a series solution
-    /// (`engine::bodies` has no wall to share the load with).
+    /// (`engine::bodies` has no wall to share the load with), with a sphere (3D) a simple
+    /// cubic array of spheres.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub walls: Option<bool>,
     /// Space dimensions: 2 (the default) or 3, the channel periodic along z as well.
@@ -107,6 +113,10 @@ pub struct Channel {
     /// The nominal mean velocity (with a cylinder; 0 without, where U follows from g).
     pub velocity: f64,
     pub cylinder: Option<Circle>,
+    /// A fixed sphere (3D).
+    pub sphere: Option<Sphere>,
+    /// Layers of particles on spherical shells around the sphere.
+    shells: usize,
     /// Layers of particles on circles around the cylinder.
     pub rings: usize,
     /// The bulk velocity the body force holds (None: a constant force).
@@ -160,21 +170,22 @@ impl ChannelSpec {
                 "a channel is driven along x: the y component must be 0",
             ));
         }
-        let velocity = match (&self.cylinder, self.velocity) {
-            (None, Some(_)) => {
+        let body = self.cylinder.is_some() || self.sphere.is_some();
+        let velocity = match (body, self.velocity) {
+            (false, Some(_)) => {
                 return Err(field_err(
                     "scene.velocity",
-                    "a plain channel's velocity scale follows from scene.body_force; scene.velocity is for taylor-green or a channel with a cylinder",
+                    "a plain channel's velocity scale follows from scene.body_force; scene.velocity is for taylor-green or a channel with a cylinder or a sphere",
                 ));
             }
-            (Some(_), None) => {
+            (true, None) => {
                 return Err(field_err(
                     "scene.velocity",
-                    "required with a cylinder: the nominal mean velocity that defines Re and Wi",
+                    "required with a cylinder or a sphere: the nominal mean velocity that defines Re and Wi",
                 ));
             }
-            (Some(_), Some(u)) => positive("scene.velocity", u)?,
-            (None, None) => 0.0,
+            (true, Some(u)) => positive("scene.velocity", u)?,
+            (false, None) => 0.0,
         };
         let cylinder = match &self.cylinder {
             None => None,
@@ -218,15 +229,19 @@ impl ChannelSpec {
             .transpose()?;
         let gravity = self.validate_gravity()?;
         let refine = self.validate_refinement(walls, cylinder, rings)?;
-        if dimension == 3 {
-            self.validate_in_space()?;
-        }
+        let sphere = match dimension {
+            3 => self.validate_in_space(walls, depth)?,
+            _ => None,
+        };
+        let shells = self.sphere.as_ref().map_or(0, |s| s.shells());
         Ok(Channel {
             bounds,
             columns,
             body_force,
             velocity,
             cylinder,
+            sphere,
+            shells,
             rings,
             mean_flow,
             wall_velocity,
@@ -245,6 +260,10 @@ impl ChannelSpec {
     fn validate_depth(&self) -> Result<(usize, f64, usize), FieldError> {
         let dimension = self.dimension.unwrap_or(2);
         match (dimension, self.depth) {
+            (2, _) if self.sphere.is_some() => Err(field_err(
+                "scene.sphere",
+                "is written for 3D scenes only: set scene.dimension = 3 (in the plane, [scene.cylinder])",
+            )),
             (2, None) => Ok((2, 0.0, 0)),
             (2, Some(_)) => Err(field_err(
                 "scene.depth",
@@ -265,9 +284,10 @@ impl ChannelSpec {
         }
     }
 
-    /// What a channel in space does not have yet: cylinders, discs, sedimentation and graded
-    /// resolution are 2D.
-    fn validate_in_space(&self) -> Result<(), FieldError> {
+    /// What a channel in space does not have yet (cylinders, discs, sedimentation and graded
+    /// resolution are 2D; a sphere's drag is the drive of a box without plates, whose load
+    /// on a sphere is not written in 3D); and the sphere, if any.
+    fn validate_in_space(&self, walls: bool, depth: f64) -> Result<Option<Sphere>, FieldError> {
         let refused = [
             (self.cylinder.is_some(), "scene.cylinder"),
             (!self.discs.is_empty(), "scene.discs"),
@@ -277,13 +297,28 @@ impl ChannelSpec {
                 "scene.refine_walls",
             ),
         ];
-        match refused.iter().find(|(r, _)| *r) {
-            Some((_, key)) => Err(field_err(
+        if let Some((_, key)) = refused.iter().find(|(r, _)| *r) {
+            return Err(field_err(
                 key,
                 "is written for 2D scenes only (scene.dimension = 3)",
-            )),
-            None => Ok(()),
+            ));
         }
+        let Some(spec) = &self.sphere else {
+            return Ok(None);
+        };
+        if walls {
+            return Err(field_err(
+                "scene.walls",
+                "must be false with a [scene.sphere]: its drag is read from the momentum balance of a periodic box, and the plates' load is written in 2D only",
+            ));
+        }
+        let domain = Domain {
+            min: Vector::<3>::zeros(),
+            max: Vector::<3>::new(self.length, self.height, depth),
+            periodic: [true, true, true],
+        };
+        spec.validate(&domain, self.height / self.resolution as f64)
+            .map(Some)
     }
 
     /// `scene.refine_walls`: at least 1, no discs (they move), and the plates' and the
@@ -344,10 +379,10 @@ impl ChannelSpec {
     /// needs a cylinder to hold it and has no wall to slide.
     fn validate_walls(&self, wall_velocity: [f64; 2]) -> Result<bool, FieldError> {
         let walls = self.walls.unwrap_or(true);
-        if !walls && self.cylinder.is_none() {
+        if !walls && self.cylinder.is_none() && self.sphere.is_none() {
             return Err(field_err(
                 "scene.walls",
-                "false (periodic in y) needs a [scene.cylinder]; a box periodic both ways without one is kind = \"taylor-green\"",
+                "false (periodic in y) needs a [scene.cylinder] (or in 3D a [scene.sphere]); a box periodic both ways without one is kind = \"taylor-green\"",
             ));
         }
         if !walls && wall_velocity != [0.0, 0.0] {
@@ -508,6 +543,46 @@ impl Channel {
     }
 }
 
+impl Channel {
+    /// The box in space: periodic along x and z, and along y without plates.
+    fn space_domain(&self) -> Domain<3> {
+        Domain {
+            min: Vector::<3>::zeros(),
+            max: Vector::<3>::new(self.bounds.length, self.bounds.height, self.depth),
+            periodic: [true, !self.walls, true],
+        }
+    }
+
+    /// The cubic lattice's points in space, less those inside the sphere (or within 0.1δr
+    /// of it, as for a cylinder: [`Self::is_fluid`]), and the sphere's shells
+    /// ([`sphere::shells`]) with the lattice points within them taken out.
+    fn space_positions(&self) -> Vec<Vector<3>> {
+        let (dr, domain) = (self.spacing(), self.space_domain());
+        let counts = [self.columns, self.bounds.resolution, self.layers];
+        let n: usize = counts.iter().product();
+        (0..n)
+            .map(|k| {
+                let index = [
+                    k % counts[0],
+                    (k / counts[0]) % counts[1],
+                    k / (counts[0] * counts[1]),
+                ];
+                Vector::<3>::from_fn(|a, _| (index[a] as f64 + 0.5) * dr)
+            })
+            .filter(|p| {
+                self.sphere
+                    .iter()
+                    .all(|s| sphere::beyond_shells(s, self.shells, p, &domain, dr))
+            })
+            .chain(
+                self.sphere
+                    .iter()
+                    .flat_map(|s| sphere::shells(s, self.shells, dr, &domain)),
+            )
+            .collect()
+    }
+}
+
 impl Scene for Channel {
     fn kind(&self) -> &'static str {
         "channel"
@@ -517,9 +592,11 @@ impl Scene for Channel {
         self.bounds
     }
 
-    /// The cylinder radius R with a cylinder (Wi = ⟨u⟩λ/R), else the height.
+    /// The radius R of the cylinder or the sphere (Wi = ⟨u⟩λ/R), else the height.
     fn length_scale(&self) -> f64 {
-        self.cylinder.map_or(self.bounds.height, |c| c.radius)
+        let body = self.cylinder.map(|c| c.radius);
+        body.or(self.sphere.map(|s| s.radius))
+            .unwrap_or(self.bounds.height)
     }
 
     /// The nominal mean velocity with a cylinder; else the largest of the Oldroyd-B steady
@@ -540,9 +617,9 @@ impl Scene for Channel {
             self.wall_velocity[0].abs().max(self.wall_velocity[1].abs()),
             f64::max,
         );
-        match self.cylinder {
-            Some(_) => self.velocity,
-            None => {
+        match self.cylinder.is_some() || self.sphere.is_some() {
+            true => self.velocity,
+            false => {
                 let h = self.bounds.height;
                 let newtonian = f.density * self.body_force.x.abs() * h * h / (8.0 * f.viscosity);
                 // A generalised Newtonian fluid: its own steady centre-line velocity (the
@@ -567,7 +644,9 @@ impl Scene for Channel {
     }
 
     fn particles(&self) -> usize {
-        if self.cylinder.is_none() && self.discs.is_empty() && self.refine <= 1.0 {
+        if self.sphere.is_some() {
+            self.space_positions().len()
+        } else if self.cylinder.is_none() && self.discs.is_empty() && self.refine <= 1.0 {
             self.columns * self.bounds.resolution * self.layers.max(1)
         } else {
             self.positions().len()
@@ -633,19 +712,9 @@ impl Scene for Channel {
         if self.dimension != 3 {
             return Err("scene.dimension is 2".into());
         }
-        let (dr, depth) = (self.spacing(), self.depth);
-        let counts = [self.columns, self.bounds.resolution, self.layers];
-        let n: usize = counts.iter().product();
-        let positions: Vec<Vector<3>> = (0..n)
-            .map(|k| {
-                let index = [
-                    k % counts[0],
-                    (k / counts[0]) % counts[1],
-                    k / (counts[0] * counts[1]),
-                ];
-                Vector::<3>::from_fn(|a, _| (index[a] as f64 + 0.5) * dr)
-            })
-            .collect();
+        let dr = self.spacing();
+        let positions = self.space_positions();
+        let n = positions.len();
         let plate = |position, fluid_side, u: f64| {
             let plane = Plane {
                 axis: 1,
@@ -655,7 +724,7 @@ impl Scene for Channel {
             let velocity = Vector::<3>::new(u, 0.0, 0.0);
             Wall::sliding(Shape::Plane(plane), scheme.wall_conformation, velocity)
         };
-        let walls = if self.walls {
+        let mut walls = if self.walls {
             vec![
                 plate(0.0, 1.0, self.wall_velocity[0]),
                 plate(self.bounds.height, -1.0, self.wall_velocity[1]),
@@ -663,13 +732,13 @@ impl Scene for Channel {
         } else {
             Vec::new()
         };
+        walls.extend(
+            self.sphere
+                .map(|s| Wall::no_slip(Shape::Circle(s), scheme.wall_conformation)),
+        );
         let g = self.body_force;
         Ok(FlowSetup {
-            domain: Domain {
-                min: Vector::<3>::zeros(),
-                max: Vector::<3>::new(self.bounds.length, self.bounds.height, depth),
-                periodic: [true, !self.walls, true],
-            },
+            domain: self.space_domain(),
             walls,
             velocity: vec![Vector::<3>::zeros(); n],
             positions,
@@ -683,8 +752,8 @@ impl Scene for Channel {
     }
 
     fn reference(&self, fluid: &Fluid) -> Result<Reference, String> {
-        if self.cylinder.is_some() {
-            return Err("no analytic solution for flow past a cylinder".into());
+        if self.cylinder.is_some() || self.sphere.is_some() {
+            return Err("no analytic solution for flow past a cylinder or a sphere".into());
         }
         if !self.discs.is_empty() {
             return Err("no analytic solution for flow with discs".into());
@@ -718,7 +787,7 @@ impl Scene for Channel {
     }
 
     fn varies_across_height(&self) -> bool {
-        self.cylinder.is_none()
+        self.cylinder.is_none() && self.sphere.is_none()
     }
 
     fn periodic(&self) -> [bool; 2] {
@@ -731,6 +800,10 @@ impl Scene for Channel {
 
     fn cylinder(&self) -> Option<Circle> {
         self.cylinder
+    }
+
+    fn sphere(&self) -> Option<Sphere> {
+        self.sphere
     }
 
     fn discs(&self) -> usize {

@@ -14,11 +14,12 @@ pub mod graded;
 pub mod jet;
 pub mod pipe;
 pub mod pool;
+pub mod sphere;
 pub mod taylor_green;
 
 use crate::analysis::plane::PlaneMap;
 use crate::analysis::reference::Reference;
-use crate::engine::boundary::{Circle, Plane, Shape, Wall};
+use crate::engine::boundary::{Circle, Plane, Shape, Sphere, Wall};
 use crate::engine::kernel::{H_OVER_DR, SUPPORT_OVER_H};
 use crate::engine::math::Vec2;
 use crate::engine::neighbours::Domain;
@@ -220,6 +221,10 @@ pub trait Scene: fmt::Debug + Send + Sync {
     }
     /// A solid cylinder in the flow, whose drag and wake the run reports.
     fn cylinder(&self) -> Option<Circle> {
+        None
+    }
+    /// A fixed solid sphere in the flow (3D), whose drag the run reports.
+    fn sphere(&self) -> Option<Sphere> {
         None
     }
     /// Whether its particles' resolution is graded along walls (`engine::resolution`).

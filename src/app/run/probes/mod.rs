@@ -1,9 +1,10 @@
 //! Run probes: what a scene records beside `series.csv` at every output time — a drop's
 //! shape (`drop.csv`), a jet's buckling (`jet.csv`), a cylinder's drag, steady state and
-//! wake (`centreline.csv`) — each with its charts and its entry in `summary.json`.
+//! wake (`centreline.csv`), a sphere's drag and steady state (3D) — each with its charts and
+//! its entry in `summary.json`.
 //!
 //! To add a probe: a file here implementing [`Probe`], and one line in [`Probes::for_case`]
-//! that decides when it applies.
+//! that decides when it applies ([`Probes::in_space`] in 3D).
 
 pub mod cavity;
 pub mod centreline;
@@ -12,6 +13,7 @@ pub mod disc;
 pub mod drop;
 pub mod jet;
 pub mod meniscus;
+pub mod sphere;
 pub mod steady;
 
 use crate::app::io::SeriesRow;
@@ -108,15 +110,29 @@ impl Probes {
     }
 }
 
+/// The names of the probes of `case`, in its dimension.
+pub fn names(case: &Case) -> Vec<&'static str> {
+    match case.scene.dimension() {
+        3 => Probes::in_space(case).names().collect(),
+        _ => Probes::for_case(case).names().collect(),
+    }
+}
+
+impl Probes<3> {
+    /// The probes that apply to a case in space: a fixed sphere's drag.
+    pub fn in_space(case: &Case) -> Self {
+        let mut probes: Vec<Box<dyn Probe<3>>> = Vec::new();
+        if let Some(s) = case.scene.sphere() {
+            probes.push(Box::new(sphere::SphereProbe::new(case, s)));
+        }
+        Self(probes)
+    }
+}
+
 impl<const D: usize> Probes<D>
 where
     Dim<D>: StepDimension<D>,
 {
-    /// No probes (a scene in space records its series alone).
-    pub fn none() -> Self {
-        Self(Vec::new())
-    }
-
     /// The probes' names (their entries in `summary.json`).
     pub fn names(&self) -> impl Iterator<Item = &'static str> + '_ {
         self.0.iter().map(|p| p.name())
