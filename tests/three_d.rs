@@ -2,6 +2,8 @@
 //! z, δr = 1/8), against exact solutions and against the same stages in 2D: the PPE matrix and
 //! its solvers, the implicit viscous solve, and the conformation update with EVSS.
 
+mod common;
+
 use nalgebra::SVector;
 use rheosph::engine::boundary::{Ghosts, Plane, Shape, TensorMirror, Wall};
 use rheosph::engine::dimension::{Dim, Dimension, Sym, SymTensor};
@@ -463,23 +465,12 @@ fn the_pipe_follows_its_bessel_series() {
 /// (measured 0.981: the controller still catching up with the rising drag).
 #[test]
 fn a_cubic_array_of_spheres_has_zick_and_homsys_drag() {
-    let text = std::fs::read_to_string("cases/sphere-array.toml").unwrap();
-    let overrides = [
-        "run.end_time=0.15".to_string(),
-        "run.output_interval=0.05".to_string(),
-    ];
-    let case = rheosph::setup::case::parse(&text, "sphere-array.toml", "sphere-array", &overrides)
-        .unwrap();
-    let out = std::env::temp_dir().join("rheosph-sphere-array-test");
-    let options = rheosph::app::run::RunOptions {
-        out_dir: out.clone(),
-        quiet: true,
-        charts: None,
-        snapshots: false,
-        progress: None,
-    };
-    let summary = rheosph::app::run::run(&case, &options).unwrap();
-    let rows = rheosph::app::io::read_series(&out.join("series.csv")).unwrap();
+    let case = common::shipped(
+        "sphere-array.toml",
+        &["run.end_time=0.15", "run.output_interval=0.05"],
+    );
+    let (summary, out) = common::run_quiet(&case, false);
+    let rows = rheosph::app::io::read_series(&out.path().join("series.csv")).unwrap();
     let last = rows.last().unwrap();
     let sphere = &summary.probes["sphere"];
     let reference = sphere["drag_k_zick_homsy"].as_f64().unwrap();

@@ -3,7 +3,7 @@
 //! it (`[run.steady]`, King & Lind §IV B), `centreline.csv` and the cylinder charts.
 
 use super::centreline::CentrelineRow;
-use super::steady::{Averages, SteadySummary};
+use super::steady::{Averages, SteadySummary, SteadyWindows};
 use super::Probe;
 use crate::analysis::centreline::Centreline;
 use crate::analysis::forces;
@@ -16,7 +16,6 @@ use crate::engine::step::Simulation;
 use crate::engine::timing::Stage;
 use crate::setup::case::{Case, SteadyCriterion};
 use anyhow::Result;
-use serde::{Deserialize, Serialize};
 use std::path::Path;
 use std::time::Instant;
 
@@ -34,13 +33,7 @@ pub struct CylinderProbe {
 
 /// What a checkpoint keeps: when the flow became steady and the averages since, and the
 /// averages over the run's last `average` time units while it is not steady.
-#[derive(Clone, Debug, Default, Serialize, Deserialize)]
-struct SteadyState {
-    steady_at: Option<f64>,
-    averages: Option<Averages>,
-    #[serde(default)]
-    tail: Option<Averages>,
-}
+type SteadyState = SteadyWindows<Averages>;
 
 impl CylinderProbe {
     pub fn new(case: &Case, circle: Circle) -> Self {
@@ -116,22 +109,11 @@ impl Probe for CylinderProbe {
     fn end_time(&mut self, sim: &mut Simulation, rows: &[SeriesRow]) -> Option<f64> {
         let criterion = self.criterion?;
         let last = &rows[rows.len() - 1];
-        if let Some(avg) = self.state.averages.as_mut() {
-            add_sample(avg, &self.centreline, &self.circle, sim, last);
-            return None;
-        }
-        if let Some(t) = criterion.reached(rows) {
-            self.state.steady_at = Some(t);
-            self.state.averages = Some(Averages::new(t));
-            return Some(t + criterion.average);
-        }
-        // Not steady (yet): the run's last `average` time units are averaged in case it
-        // never is.
-        if last.t >= self.run_end - criterion.average - 1e-12 {
-            let tail = self.state.tail.get_or_insert_with(|| Averages::new(last.t));
-            add_sample(tail, &self.centreline, &self.circle, sim, last);
-        }
-        None
+        let (line, circle) = (&self.centreline, &self.circle);
+        self.state
+            .observe(&criterion, self.run_end, rows, Averages::new, |avg| {
+                add_sample(avg, line, circle, sim, last)
+            })
     }
 
     fn checkpoint(&self) -> Option<serde_json::Value> {

@@ -4,6 +4,7 @@
 //! averages after it, Zick & Homsy's K at the array's solid fraction where their table
 //! has it, and the final state's K from control spheres around the body.
 
+use super::steady::SteadyWindows;
 use super::Probe;
 use crate::analysis::{forces, sphere_load};
 use crate::app::io::SeriesRow;
@@ -23,16 +24,9 @@ pub struct SphereProbe {
     criterion: Option<SteadyCriterion>,
     /// The case's end time: a run that never becomes steady averages its last `average` units.
     run_end: f64,
-    state: SphereState,
-}
-
-/// What a checkpoint keeps: when the drive became steady and the averages since, or those of
-/// the run's last `average` time units while it is not steady.
-#[derive(Clone, Debug, Default, Serialize, Deserialize)]
-struct SphereState {
-    steady_at: Option<f64>,
-    window: Option<Window>,
-    tail: Option<Window>,
+    /// When the drive became steady and the averages since (or over the run's last
+    /// `average` time units while it is not): what a checkpoint keeps.
+    state: SteadyWindows<Window>,
 }
 
 /// Sums over output rows.
@@ -97,7 +91,7 @@ impl SphereProbe {
             sphere,
             criterion: case.steady,
             run_end: case.end_time,
-            state: SphereState::default(),
+            state: SteadyWindows::default(),
         }
     }
 
@@ -160,20 +154,8 @@ impl Probe<3> for SphereProbe {
     fn end_time(&mut self, _sim: &mut Simulation<3>, rows: &[SeriesRow]) -> Option<f64> {
         let criterion = self.criterion?;
         let last = &rows[rows.len() - 1];
-        if let Some(window) = self.state.window.as_mut() {
-            window.add(last);
-            return None;
-        }
-        if let Some(t) = criterion.reached(rows) {
-            self.state.steady_at = Some(t);
-            self.state.window = Some(Window::new(t));
-            return Some(t + criterion.average);
-        }
-        if last.t >= self.run_end - criterion.average - 1e-12 {
-            let tail = self.state.tail.get_or_insert_with(|| Window::new(last.t));
-            tail.add(last);
-        }
-        None
+        self.state
+            .observe(&criterion, self.run_end, rows, Window::new, |w| w.add(last))
     }
 
     fn checkpoint(&self) -> Option<serde_json::Value> {
@@ -197,7 +179,7 @@ impl Probe<3> for SphereProbe {
         _charts: Option<FigureFormat>,
     ) -> Result<Option<serde_json::Value>> {
         let filled = |w: &Option<Window>| w.filter(|w| w.samples > 0);
-        let avg = filled(&self.state.window)
+        let avg = filled(&self.state.averages)
             .or(filled(&self.state.tail))
             .unwrap_or_else(|| {
                 let mut w = Window::new(sim.state.time);

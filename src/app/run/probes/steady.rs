@@ -35,6 +35,46 @@ impl SteadyCriterion {
     }
 }
 
+/// When a run became steady and the averages it keeps: once the criterion is met, each output
+/// row is added to `averages` for `average` time units and the run ends; while it is not
+/// steady, its last `average` time units go to `tail`, in case it never is. A checkpoint
+/// keeps it whole.
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+pub struct SteadyWindows<A> {
+    pub steady_at: Option<f64>,
+    pub averages: Option<A>,
+    #[serde(default)]
+    pub tail: Option<A>,
+}
+
+impl<A> SteadyWindows<A> {
+    /// After an output row (the last of `rows`): `add` puts it into the window it falls in,
+    /// `start(t)` opening one; an earlier end time when the criterion is first met.
+    pub fn observe(
+        &mut self,
+        criterion: &SteadyCriterion,
+        run_end: f64,
+        rows: &[SeriesRow],
+        start: impl Fn(f64) -> A,
+        add: impl FnOnce(&mut A),
+    ) -> Option<f64> {
+        let last = &rows[rows.len() - 1];
+        if let Some(averages) = self.averages.as_mut() {
+            add(averages);
+            return None;
+        }
+        if let Some(t) = criterion.reached(rows) {
+            self.steady_at = Some(t);
+            self.averages = Some(start(t));
+            return Some(t + criterion.average);
+        }
+        if last.t >= run_end - criterion.average - 1e-12 {
+            add(self.tail.get_or_insert_with(|| start(last.t)));
+        }
+        None
+    }
+}
+
 /// Time averages of the series and the centre-line profile.
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct Averages {
