@@ -44,8 +44,8 @@ pub struct PpeSummary {
     /// residual can be O(1) by design.
     pub absolute_floor_stops: u64,
     pub matrix_nonzeros: usize,
-    /// Mean BiCGStab iterations per step of the implicit viscous solve (x and y together;
-    /// 0 with explicit viscosity).
+    /// Mean BiCGStab iterations per step of the implicit viscous solve (its components
+    /// together; 0 with explicit viscosity).
     pub viscous_mean_iterations: f64,
 }
 

@@ -20,7 +20,7 @@ pub struct SphereSpec {
     pub centre: Option<[f64; 3]>,
     /// Layers of particles laid on spherical shells around the sphere, the lattice kept
     /// beyond them (default 3; 0: the lattice alone, cut by the sphere, whose drag then reads
-    /// several per cent low: validation pages, *Three dimensions*).
+    /// several per cent low: the decision log).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shells: Option<usize>,
 }
