@@ -10,7 +10,7 @@
 #   plots/regenerate.sh models     # the models', Couette's, the cavity's and the GN channels' cases (10 min)
 #   plots/regenerate.sh discs      # the free disc in shear, migration, near contact, sedimentation (30 min)
 #   plots/regenerate.sh three-d    # the channel in 3D beside 2D at H/dr = 10, 15, 20; the pipe;
-#                                  # the cubic array of spheres
+#                                  # the cubic array of spheres; the sphere turning in shear
 # Then `rheosph gallery` rewrites the validation pages' generated tables from the runs and
 # lists every committed number that changed.
 set -euo pipefail
@@ -371,6 +371,18 @@ $R run cases/sphere-array.toml --no-snapshots --no-charts --set scene.resolution
 $R run cases/sphere-array.toml --no-snapshots --no-charts --set scene.resolution=32 \
   --set scene.sphere.radius=0.3722103 --out $A/c0.216-r32
 rm -f $A/*/final_state.bin $A/*/checkpoint.bin $A/*/profile.csv
+# A sphere turning freely in plane Couette flow (Newtonian, gamma = 1, a/dr = 8): the box
+# test, cubes of side 3a to 6a, and a/dr = 10 in the 4a box (about 45 min on 2 cores).
+S=plots/three-d/sphere-in-shear
+for side in 3 4 5 6; do
+  v=$(awk "BEGIN { print $side / 2 }")
+  $R run cases/sphere-in-shear.toml --no-snapshots --no-charts --set scene.length=$side \
+    --set scene.height=$side --set scene.depth=$side --set scene.resolution=$((8 * side)) \
+    --set "scene.wall_velocity=[-$v, $v]" --out $S/box$side-r8
+done
+$R run cases/sphere-in-shear.toml --no-snapshots --no-charts --set scene.resolution=40 \
+  --out $S/box4-r10
+rm -f $S/*/final_state.bin $S/*/checkpoint.bin $S/*/profile.csv
 fi
 
 # The validation pages' tables from what ran (the changed numbers are listed).

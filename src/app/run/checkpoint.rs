@@ -33,10 +33,9 @@
 //!     checksum   u64      FNV-1a of every preceding byte
 //! ```
 
-use crate::engine::bodies::DiscMotion;
+use crate::engine::bodies::BodyRecord;
 use crate::engine::dimension::{Dim, Sym, SymTensor, Vector};
 use crate::engine::frame::Frame;
-use crate::engine::math::Vec2;
 use crate::engine::step::{Simulation, State, StepDimension};
 use std::path::Path;
 
@@ -47,13 +46,13 @@ pub const VERSION: u32 = 3;
 
 const FLAG_CONFORMATION: u32 = 1;
 const FLAG_EULERIAN: u32 = 2;
-/// The rigid discs' centres, velocities, spins and accelerations follow the particles
-/// (7 values per disc; the case says how many).
+/// The rigid bodies' records follow the particles ([`BodyRecord`]: a disc's centre, velocity,
+/// spin and acceleration; a turning sphere's spin and torque; the case says how many).
 const FLAG_DISCS: u32 = 4;
 /// A simulation in space: three components a vector, six a conformation.
 const FLAG_SPACE: u32 = 8;
 const KNOWN_FLAGS: u32 = FLAG_CONFORMATION | FLAG_EULERIAN | FLAG_DISCS | FLAG_SPACE;
-const VALUES_PER_DISC: usize = 7;
+const VALUES_PER_DISC: usize = std::mem::size_of::<BodyRecord>() / 8;
 
 /// Space dimensions of a checkpoint with these flags.
 fn dimension(flags: u32) -> usize {
@@ -165,12 +164,7 @@ where
         .iter()
         .flat_map(|u| u.iter())
         .for_each(|&v| put(v));
-    for m in &motions {
-        let (c, v, a) = (m.centre, m.velocity, m.acceleration);
-        [c.x, c.y, v.x, v.y, m.spin, a.x, a.y]
-            .into_iter()
-            .for_each(&mut put);
-    }
+    motions.iter().flatten().for_each(|&v| put(v));
     let checksum = fnv1a(&out);
     out.extend_from_slice(&checksum.to_le_bytes());
     out
@@ -348,18 +342,10 @@ where
     Ok(())
 }
 
-/// The discs' block: centre, velocity, spin and acceleration of each.
-fn read_discs(r: &mut Reader, count: usize) -> Vec<DiscMotion> {
+/// The bodies' block: each body's record ([`BodyRecord`]).
+fn read_discs(r: &mut Reader, count: usize) -> Vec<BodyRecord> {
     (0..count)
-        .map(|_| {
-            let v: [f64; VALUES_PER_DISC] = std::array::from_fn(|_| r.f64());
-            DiscMotion {
-                centre: Vec2::new(v[0], v[1]),
-                velocity: Vec2::new(v[2], v[3]),
-                spin: v[4],
-                acceleration: Vec2::new(v[5], v[6]),
-            }
-        })
+        .map(|_| std::array::from_fn(|_| r.f64()))
         .collect()
 }
 

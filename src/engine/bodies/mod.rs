@@ -35,6 +35,7 @@
 //! the net volume flux along the periodic axis at zero (module docs there).
 
 pub mod contact;
+pub mod sphere;
 pub mod traction;
 
 use crate::engine::boundary::{Circle, Ghosts, RigidNoSlip, Shape, TensorMirror, Wall};
@@ -79,6 +80,26 @@ pub struct DiscMotion {
     pub velocity: Vec2,
     pub spin: f64,
     pub acceleration: Vec2,
+}
+
+/// What a checkpoint keeps of one body: a disc's [`DiscMotion`] as (c_x, c_y, V_x, V_y, Ω,
+/// a_x, a_y); a turning sphere's Ω and last torque as (Ω_x, Ω_y, Ω_z, T_x, T_y, T_z, 0).
+pub type BodyRecord = [f64; 7];
+
+impl DiscMotion {
+    pub fn record(&self) -> BodyRecord {
+        let (c, v, a) = (self.centre, self.velocity, self.acceleration);
+        [c.x, c.y, v.x, v.y, self.spin, a.x, a.y]
+    }
+
+    pub fn from_record(v: &BodyRecord) -> Self {
+        Self {
+            centre: Vec2::new(v[0], v[1]),
+            velocity: Vec2::new(v[2], v[3]),
+            spin: v[4],
+            acceleration: Vec2::new(v[5], v[6]),
+        }
+    }
 }
 
 /// What the coupling's stabilising terms need of the fluid and the step.

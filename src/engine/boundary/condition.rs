@@ -204,6 +204,47 @@ impl WallCondition for RigidNoSlip {
     }
 }
 
+/// A no-slip sphere turning rigidly at `spin` about its `centre` (in space): its surface
+/// point x_s moves at u_w = Ω × (x_s − c), and the mirror of a particle carries
+/// `u_j = 2u_w(x_s) − u_i` with x_s where r_ij crosses the surface (on the radius through the
+/// mirror); pressure and conformation as [`NoSlip`]. It counts as moving even at Ω = 0, so
+/// that the ghosts keep offsets for the spin a freely turning sphere takes up later
+/// ([`crate::engine::bodies::sphere`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TurningNoSlip {
+    pub tensor: TensorMirror,
+    pub centre: SVector<f64, 3>,
+    pub radius: f64,
+    pub spin: SVector<f64, 3>,
+}
+
+impl WallCondition<3> for TurningNoSlip {
+    fn velocity_sign(&self) -> f64 {
+        -1.0
+    }
+
+    fn velocity_offset(&self, mirror: SVector<f64, 3>) -> SVector<f64, 3> {
+        let r = mirror - self.centre;
+        let on_surface = r * (self.radius / r.norm().max(f64::MIN_POSITIVE));
+        2.0 * self.spin.cross(&on_surface)
+    }
+
+    fn moves(&self) -> bool {
+        true
+    }
+
+    fn tensor(&self, parent: &Sym<3>, normal: &SVector<f64, 3>) -> Sym<3> {
+        NoSlip {
+            tensor: self.tensor,
+        }
+        .tensor(parent, normal)
+    }
+
+    fn continues_tensor(&self) -> bool {
+        self.tensor == TensorMirror::Linear
+    }
+}
+
 /// The condition of a [`super::shape::Corner`]'s point-reflected ghost: the mirror across
 /// wall `second` of the mirror across wall `first`. With `u_a = s₁u_i + b₁(x_a)` on the first
 /// mirror x_a and `u_c = s₂u_a + b₂(x_c)` on its mirror x_c, the ghost carries

@@ -14,7 +14,7 @@ pub mod inflow;
 pub mod shape;
 
 pub use condition::{
-    NoSlip, RegularisedLid, RigidNoSlip, SlidingNoSlip, TensorMirror, WallCondition,
+    NoSlip, RegularisedLid, RigidNoSlip, SlidingNoSlip, TensorMirror, TurningNoSlip, WallCondition,
 };
 pub use continuation::VelocityExtension;
 pub use fixed::WallModel;
@@ -289,6 +289,26 @@ where
         self.velocity_sign[k] = wall.condition.velocity_sign();
         self.pressure_sign[k] = wall.condition.pressure_sign();
         self.walls[k] = wall;
+    }
+
+    /// Sets wall `k`'s condition in place (its shape unchanged: a body turning about a held
+    /// centre) and recomputes its mirrors' offsets from their parents among `fluid`, so
+    /// that a new wall velocity reaches the ghosts also where the configuration is not
+    /// rebuilt (the Eulerian frame's fixed particles). The wall must have moved at the
+    /// last build (its offsets exist) or not have been built yet.
+    pub fn set_condition(&mut self, k: usize, wall: Wall<D>, fluid: &[Point<D>]) {
+        debug_assert!(wall.shape == self.walls[k].shape);
+        self.set_wall(k, wall);
+        if !self.has_offsets() {
+            return;
+        }
+        let wall = &self.walls[k];
+        for g in (0..self.parent.len()).filter(|&g| self.wall[g] as usize == k) {
+            let p = wall
+                .shape
+                .nearest_image(&fluid[self.parent[g] as usize], self.domain.as_ref());
+            self.offset[g] = wall.condition.velocity_offset(wall.shape.reflect(&p));
+        }
     }
 
     /// Whether any ghost carries a volume other than its parent's.

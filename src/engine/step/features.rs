@@ -1,14 +1,16 @@
 //! The parts of a step that only some scenes have, chosen once per dimension: in the plane,
 //! free surfaces (detection, Dirichlet pressure, surface tension, wetting, detached bodies),
-//! rigid discs and an inflow buffer ([`PlaneFeatures`]); in space none yet
-//! ([`InternalFlow`]), so a 3D step is the internal-flow step of the paper and nothing else.
+//! rigid discs and an inflow buffer ([`PlaneFeatures`]); in space a sphere turning about a
+//! held centre ([`SpaceFeatures`]), else the internal-flow step of the paper and nothing
+//! else ([`InternalFlow`]).
 //!
 //! The step calls each hook at its place in Steps 1–7; the defaults do nothing, which is
 //! what a scene without the feature needs, so 2D scenes without a free surface, discs or an
 //! inflow run the same code as before and 3D needs no `if` in any stage.
 
+use crate::engine::bodies::sphere::{SphereView, Turning, TurningSphere};
 use crate::engine::bodies::traction::FluidView;
-use crate::engine::bodies::{Bodies, Coupling, DiscMotion};
+use crate::engine::bodies::{Bodies, BodyRecord, Coupling, DiscMotion};
 use crate::engine::boundary::inflow::Inflow;
 use crate::engine::boundary::{Ghosts, Wall};
 use crate::engine::dimension::{Dim, Dimension, Matrix, Sym, Vector};
@@ -41,7 +43,7 @@ impl StepDimension<2> for Dim<2> {
 }
 
 impl StepDimension<3> for Dim<3> {
-    type Features = InternalFlow;
+    type Features = SpaceFeatures;
 }
 
 /// The features of a simulation in D dimensions, its type per [`StepDimension`].
@@ -100,8 +102,9 @@ pub trait Features<const D: usize>: Send + Sync
 where
     Dim<D>: Dimension<D>,
 {
-    /// Before Step 2: bodies place their walls where they will be at r*.
-    fn move_walls(&mut self, _ghosts: &mut Ghosts<D>, _dt: f64) {}
+    /// Before Step 2: bodies place their walls where they will be at r* (`fluid`: the
+    /// fluid positions of the last configuration, for walls that turn in place).
+    fn move_walls(&mut self, _ghosts: &mut Ghosts<D>, _fluid: &[Vector<D>], _dt: f64) {}
 
     /// Step 2: find the free surface at r*.
     fn detect(&mut self, _hood: Hood<D>, _points: &[Vector<D>], _kernel: &QuinticSpline) {}
@@ -166,12 +169,12 @@ where
     fn move_bodies(&mut self, _step: BodyStep<D>) {}
 
     /// The bodies' motion, for a checkpoint (none without bodies).
-    fn body_motions(&self) -> Vec<DiscMotion> {
+    fn body_motions(&self) -> Vec<BodyRecord> {
         Vec::new()
     }
 
     /// Sets the bodies' motion (a checkpoint's), in order.
-    fn restore_bodies(&mut self, _motions: &[DiscMotion]) {}
+    fn restore_bodies(&mut self, _motions: &[BodyRecord]) {}
 
     /// Whether the particle count grows (an inflow feeds particles).
     fn grows(&self) -> bool {
@@ -200,6 +203,79 @@ pub struct InternalFlow;
 
 impl<const D: usize> Features<D> for InternalFlow where Dim<D>: Dimension<D> {}
 
+/// The features of space: a sphere turning about its held centre, if the scene has one.
+#[derive(Default)]
+pub struct SpaceFeatures {
+    pub sphere: Option<TurningSphere>,
+    /// Why the last torque could not be taken, if it could not.
+    failure: Option<String>,
+}
+
+impl SpaceFeatures {
+    pub fn new(sphere: Option<TurningSphere>) -> Self {
+        Self {
+            sphere,
+            failure: None,
+        }
+    }
+}
+
+impl Features<3> for SpaceFeatures {
+    fn move_walls(&mut self, ghosts: &mut Ghosts<3>, fluid: &[Vector<3>], _dt: f64) {
+        if let Some(s) = self.sphere.as_ref().filter(|s| s.turning == Turning::Free) {
+            ghosts.set_condition(s.wall, s.wall(), fluid);
+        }
+    }
+
+    fn move_bodies(&mut self, b: BodyStep<3>) {
+        let Some(sphere) = self.sphere.as_mut() else {
+            return;
+        };
+        let view = SphereView {
+            state: b.state,
+            kernel: b.kernel,
+            domain: b.domain,
+            fluid: b.fluid,
+            spacing: b.spacing,
+        };
+        let eta = response_viscosity(b.fluid, b.dt);
+        self.failure = b
+            .timers
+            .time(Stage::Bodies, || sphere.advance(view, eta, b.dt))
+            .err();
+    }
+
+    fn check_bodies(&self, _domain: &Domain<3>, _support: f64) -> Result<(), String> {
+        self.failure.clone().map_or(Ok(()), Err)
+    }
+
+    fn body_motions(&self) -> Vec<BodyRecord> {
+        let record = |s: &TurningSphere| {
+            let (w, t) = (s.spin, s.torque);
+            [w.x, w.y, w.z, t.x, t.y, t.z, 0.0]
+        };
+        self.sphere.iter().map(record).collect()
+    }
+
+    fn restore_bodies(&mut self, motions: &[BodyRecord]) {
+        if let (Some(s), Some(v)) = (self.sphere.as_mut(), motions.first()) {
+            s.spin = Vector::<3>::new(v[0], v[1], v[2]);
+            s.torque = Vector::<3>::new(v[3], v[4], v[5]);
+        }
+    }
+}
+
+/// η = η_s + Gδt: the viscosity of a body's load's response within one step (the solvent's
+/// and the polymer's elastic response over δt; `engine::bodies`).
+fn response_viscosity(fluid: &Fluid, dt: f64) -> f64 {
+    let elastic = if fluid.model.is_viscoelastic() && fluid.relaxation_time > 0.0 {
+        fluid.polymer_viscosity() / fluid.relaxation_time * dt
+    } else {
+        0.0
+    };
+    fluid.solvent_viscosity() + elastic
+}
+
 /// The plane's features: each None (or empty) unless the scene has it.
 pub struct PlaneFeatures {
     pub free_surface: Option<FreeSurfaceStage>,
@@ -221,7 +297,7 @@ impl PlaneFeatures {
 }
 
 impl Features<2> for PlaneFeatures {
-    fn move_walls(&mut self, ghosts: &mut Ghosts, dt: f64) {
+    fn move_walls(&mut self, ghosts: &mut Ghosts, _fluid: &[Vec2], dt: f64) {
         if !self.bodies.is_empty() {
             self.bodies.apply(ghosts, dt);
         }
@@ -340,14 +416,9 @@ impl Features<2> for PlaneFeatures {
         }
         let g = b.state.body_force;
         let fluid = b.fluid;
-        let elastic = if fluid.model.is_viscoelastic() && fluid.relaxation_time > 0.0 {
-            fluid.polymer_viscosity() / fluid.relaxation_time * b.dt
-        } else {
-            0.0
-        };
         let coupling = Coupling {
             fluid_density: fluid.density,
-            response_viscosity: fluid.solvent_viscosity() + elastic,
+            response_viscosity: response_viscosity(fluid, b.dt),
             viscosity: fluid.viscosity,
             spacing: b.spacing,
             dt: b.dt,
@@ -374,19 +445,23 @@ impl Features<2> for PlaneFeatures {
         self.inflow.is_some()
     }
 
-    fn body_motions(&self) -> Vec<DiscMotion> {
+    fn body_motions(&self) -> Vec<BodyRecord> {
         let motion = |d: &crate::engine::bodies::Disc| DiscMotion {
             centre: d.circle.centre,
             velocity: d.velocity,
             spin: d.spin,
             acceleration: d.acceleration,
         };
-        self.bodies.discs.iter().map(motion).collect()
+        self.bodies
+            .discs
+            .iter()
+            .map(|d| motion(d).record())
+            .collect()
     }
 
-    fn restore_bodies(&mut self, motions: &[DiscMotion]) {
+    fn restore_bodies(&mut self, motions: &[BodyRecord]) {
         for (d, m) in self.bodies.discs.iter_mut().zip(motions) {
-            d.set_motion(m);
+            d.set_motion(&DiscMotion::from_record(m));
         }
     }
 

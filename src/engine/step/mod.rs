@@ -23,10 +23,13 @@ mod integrator;
 
 pub use crate::engine::ordering::REORDER_INTERVAL;
 pub use crate::engine::state::{Breakdown, Scales, State, StepReport};
-pub use features::{Features, FeaturesOf, InternalFlow, PlaneFeatures, StepDimension};
+pub use features::{
+    Features, FeaturesOf, InternalFlow, PlaneFeatures, SpaceFeatures, StepDimension,
+};
 
 use crate::engine::bodies::contact::Contact;
-use crate::engine::bodies::{Bodies, Disc, DiscMotion, DiscSet};
+use crate::engine::bodies::sphere::{SphereView, TurningSphere};
+use crate::engine::bodies::{Bodies, BodyRecord, Disc, DiscSet};
 use crate::engine::boundary::inflow::Inflow;
 use crate::engine::boundary::{Ghosts, Wall};
 use crate::engine::dimension::{Dim, Dimension, Sym, SymTensor, Vector};
@@ -115,6 +118,8 @@ where
     pub body_force: Vector<D>,
     pub drive: Drive,
     pub scales: Scales,
+    /// A sphere turning about its held centre (in space only; its wall is among `walls`).
+    pub sphere: Option<TurningSphere>,
 }
 
 /// The stage objects of the step, built once from the scheme.
@@ -268,6 +273,7 @@ impl Simulation<2> {
             body_force: setup.body_force,
             drive: setup.drive,
             scales: setup.scales,
+            sphere: None,
         };
         Self::assemble(flow, parts)
     }
@@ -279,6 +285,22 @@ impl Simulation<2> {
 }
 
 impl Simulation<3> {
+    /// The sphere turning about its held centre, if the scene has one.
+    pub fn turning_sphere(&self) -> Option<&TurningSphere> {
+        self.stages.features.sphere.as_ref()
+    }
+
+    /// What a sphere's torque integration reads of the current state.
+    pub fn sphere_view(&self) -> SphereView<'_> {
+        SphereView {
+            state: &self.state,
+            kernel: &self.kernel,
+            domain: &self.domain,
+            fluid: &self.fluid,
+            spacing: self.spacing,
+        }
+    }
+
     /// A simulation in space: internal flow between walls, in periodic boxes and pipes.
     /// Refused, naming the setting, where the scheme asks for what is written only in the
     /// plane.
@@ -288,6 +310,7 @@ impl Simulation<3> {
             return Err(format!("{key} is written for 2D scenes only"));
         }
         let kernel = QuinticSpline::in_dimension::<3>(H_OVER_DR * setup.spacing);
+        let sphere = setup.sphere;
         let hood = neighbourhood(
             setup.walls.clone(),
             scheme,
@@ -300,7 +323,7 @@ impl Simulation<3> {
             kernel,
             hood,
             form: Some(DivergenceForm::Negative),
-            features: InternalFlow,
+            features: SpaceFeatures::new(sphere),
         };
         Ok(Self::assemble(setup, parts))
     }
@@ -384,12 +407,12 @@ where
 
     /// The rigid bodies' motion (V^n, Ω^n, c^n and the acceleration), in order; empty
     /// without bodies.
-    pub fn body_motions(&self) -> Vec<DiscMotion> {
+    pub fn body_motions(&self) -> Vec<BodyRecord> {
         self.stages.features.body_motions()
     }
 
     /// Sets the bodies' motion (a checkpoint's), in order.
-    pub fn restore_bodies(&mut self, motions: &[DiscMotion]) {
+    pub fn restore_bodies(&mut self, motions: &[BodyRecord]) {
         self.stages.features.restore_bodies(motions);
     }
 
@@ -537,7 +560,8 @@ where
         let dt = stable.min(dt_max);
         self.intermediate_positions(dt);
         let st = &mut self.stages;
-        st.features.move_walls(&mut st.hood.ghosts, dt);
+        let fluid = &st.hood.points[..st.hood.points.len().min(self.state.position.len())];
+        st.features.move_walls(&mut st.hood.ghosts, fluid, dt);
         self.neighbourhoods();
         self.kinematics(dt);
         self.constitutive_update(dt);
@@ -1036,6 +1060,10 @@ where
         ProjectionStage::new(
             scheme.projection,
             PressureStabilisation::new(fluid.density, fluid.viscosity, kernel.h()),
+        )
+        .with_rotational(
+            fluid.density * scheme.viscosity.theta() * scheme.viscosity_nu(fluid),
+            kernel.value(0.0),
         ),
         PressureStage::new(
             scheme.ppe,

@@ -4,7 +4,7 @@
 
 use super::discs::{check_apart, ContactSpec, DiscPlan, DiscSpec};
 use super::graded::GradedPlan;
-use super::sphere::{self, SphereSpec};
+use super::sphere::{self, SphereSpec, SphereTurning};
 use super::{
     check_box, check_memory_in, check_periodic_extent, check_periodic_length, circle_in_box,
     finite_force, support_in_dr, Scene, SceneBox,
@@ -13,6 +13,7 @@ use crate::analysis::analytic::SteadyChannel;
 use crate::analysis::diagnostics::centre_line_velocity;
 use crate::analysis::reference::Reference;
 use crate::engine::bodies::contact::Contact;
+use crate::engine::bodies::sphere::TurningSphere;
 use crate::engine::boundary::{Circle, Plane, Shape, Sphere, Wall};
 use crate::engine::dimension::Vector;
 use crate::engine::drive::Drive;
@@ -41,7 +42,8 @@ pub struct ChannelSpec {
     /// Body force per unit mass g (along x): required unless the walls slide or
     /// `mean_flow` sets it.
     pub body_force: Option<[f64; 2]>,
-    /// With a cylinder or a sphere: the nominal mean velocity ⟨u⟩ defining Re and Wi.
+    /// With a cylinder, or a sphere in a periodic box: the nominal mean velocity ⟨u⟩ defining
+    /// Re and Wi.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub velocity: Option<f64>,
     /// A solid cylinder in the channel (periodic array of cylinders).
@@ -113,8 +115,10 @@ pub struct Channel {
     /// The nominal mean velocity (with a cylinder; 0 without, where U follows from g).
     pub velocity: f64,
     pub cylinder: Option<Circle>,
-    /// A fixed sphere (3D).
+    /// A sphere (3D).
     pub sphere: Option<Sphere>,
+    /// How it turns (None: fixed).
+    pub turning: Option<SphereTurning>,
     /// Layers of particles on spherical shells around the sphere.
     shells: usize,
     /// Layers of particles on circles around the cylinder.
@@ -170,28 +174,12 @@ impl ChannelSpec {
                 "a channel is driven along x: the y component must be 0",
             ));
         }
-        let body = self.cylinder.is_some() || self.sphere.is_some();
-        let velocity = match (body, self.velocity) {
-            (false, Some(_)) => {
-                return Err(field_err(
-                    "scene.velocity",
-                    "a plain channel's velocity scale follows from scene.body_force; scene.velocity is for taylor-green or a channel with a cylinder or a sphere",
-                ));
-            }
-            (true, None) => {
-                return Err(field_err(
-                    "scene.velocity",
-                    "required with a cylinder or a sphere: the nominal mean velocity that defines Re and Wi",
-                ));
-            }
-            (true, Some(u)) => positive("scene.velocity", u)?,
-            (false, None) => 0.0,
-        };
+        let walls = self.validate_walls(wall_velocity)?;
+        let velocity = self.validate_velocity(walls)?;
         let cylinder = match &self.cylinder {
             None => None,
             Some(cy) => Some(cy.validate(self.length, self.height, self.resolution)?),
         };
-        let walls = self.validate_walls(wall_velocity)?;
         let rings = match (&self.cylinder, cylinder) {
             (Some(spec), Some(c)) if walls => {
                 spec.validate_rings(&c, self.height, self.resolution)?
@@ -234,6 +222,10 @@ impl ChannelSpec {
             _ => None,
         };
         let shells = self.sphere.as_ref().map_or(0, |s| s.shells());
+        let turning = match &self.sphere {
+            Some(spec) => spec.turning()?,
+            None => None,
+        };
         Ok(Channel {
             bounds,
             columns,
@@ -242,6 +234,7 @@ impl ChannelSpec {
             cylinder,
             sphere,
             shells,
+            turning,
             rings,
             mean_flow,
             wall_velocity,
@@ -254,6 +247,29 @@ impl ChannelSpec {
             depth,
             layers,
         })
+    }
+
+    /// `scene.velocity`: the nominal mean velocity with a cylinder or a sphere in a periodic
+    /// box, refused otherwise (a channel's scale follows from its force or its plates).
+    fn validate_velocity(&self, walls: bool) -> Result<f64, FieldError> {
+        // A sphere between plates is sheared by them: its scale is theirs, as a disc's is.
+        let body = self.cylinder.is_some() || (self.sphere.is_some() && !walls);
+        match (body, self.velocity) {
+            (false, Some(_)) => {
+                Err(field_err(
+                    "scene.velocity",
+                    "a plain channel's velocity scale follows from scene.body_force (or the plates' speed); scene.velocity is for taylor-green or a periodic box with a cylinder or a sphere",
+                ))
+            }
+            (true, None) => {
+                Err(field_err(
+                    "scene.velocity",
+                    "required with a cylinder or a sphere in a periodic box: the nominal mean velocity that defines Re and Wi",
+                ))
+            }
+            (true, Some(u)) => positive("scene.velocity", u),
+            (false, None) => Ok(0.0),
+        }
     }
 
     /// `scene.dimension` (2 or 3) and, in 3D, `scene.depth` and its particle layers.
@@ -285,8 +301,7 @@ impl ChannelSpec {
     }
 
     /// What a channel in space does not have yet (cylinders, discs, sedimentation and graded
-    /// resolution are 2D; a sphere's drag is the drive of a box without plates, whose load
-    /// on a sphere is not written in 3D); and the sphere, if any.
+    /// resolution are 2D); and the sphere, if any.
     fn validate_in_space(&self, walls: bool, depth: f64) -> Result<Option<Sphere>, FieldError> {
         let refused = [
             (self.cylinder.is_some(), "scene.cylinder"),
@@ -306,16 +321,10 @@ impl ChannelSpec {
         let Some(spec) = &self.sphere else {
             return Ok(None);
         };
-        if walls {
-            return Err(field_err(
-                "scene.walls",
-                "must be false with a [scene.sphere]: its drag is read from the momentum balance of a periodic box, and the plates' load is written in 2D only",
-            ));
-        }
         let domain = Domain {
             min: Vector::<3>::zeros(),
             max: Vector::<3>::new(self.length, self.height, depth),
-            periodic: [true, true, true],
+            periodic: [true, !walls, true],
         };
         spec.validate(&domain, self.height / self.resolution as f64)
             .map(Some)
@@ -617,7 +626,7 @@ impl Scene for Channel {
             self.wall_velocity[0].abs().max(self.wall_velocity[1].abs()),
             f64::max,
         );
-        match self.cylinder.is_some() || self.sphere.is_some() {
+        match self.velocity > 0.0 {
             true => self.velocity,
             false => {
                 let h = self.bounds.height;
@@ -732,10 +741,25 @@ impl Scene for Channel {
         } else {
             Vec::new()
         };
-        walls.extend(
-            self.sphere
-                .map(|s| Wall::no_slip(Shape::Circle(s), scheme.wall_conformation)),
-        );
+        let turning = self
+            .sphere
+            .zip(self.turning)
+            .map(|(sphere, t)| TurningSphere {
+                sphere,
+                wall: walls.len(),
+                spin: t.spin,
+                density: t.density_ratio * fluid.density,
+                turning: t.turning,
+                tensor: scheme.wall_conformation,
+                torque: Vector::<3>::zeros(),
+            });
+        match (self.sphere, turning) {
+            (_, Some(t)) => walls.push(t.wall()),
+            (Some(s), None) => {
+                walls.push(Wall::no_slip(Shape::Circle(s), scheme.wall_conformation))
+            }
+            (None, None) => {}
+        }
         let g = self.body_force;
         Ok(FlowSetup {
             domain: self.space_domain(),
@@ -748,6 +772,7 @@ impl Scene for Channel {
             body_force: Vector::<3>::new(g.x, g.y, 0.0),
             drive: self.drive(fluid),
             scales,
+            sphere: turning,
         })
     }
 
@@ -804,6 +829,10 @@ impl Scene for Channel {
 
     fn sphere(&self) -> Option<Sphere> {
         self.sphere
+    }
+
+    fn sphere_turns(&self) -> bool {
+        self.turning.is_some()
     }
 
     fn discs(&self) -> usize {

@@ -223,9 +223,14 @@ pub trait Scene: fmt::Debug + Send + Sync {
     fn cylinder(&self) -> Option<Circle> {
         None
     }
-    /// A fixed solid sphere in the flow (3D), whose drag the run reports.
+    /// A solid sphere in the flow (3D), whose drag (in a periodic box) or rotation and
+    /// torque (between plates, or turning) the run reports.
     fn sphere(&self) -> Option<Sphere> {
         None
+    }
+    /// Whether the sphere turns (prescribed or free).
+    fn sphere_turns(&self) -> bool {
+        false
     }
     /// Whether its particles' resolution is graded along walls (`engine::resolution`).
     fn graded(&self) -> bool {

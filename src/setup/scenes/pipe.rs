@@ -198,6 +198,7 @@ impl Scene for Pipe {
             body_force: Vector::<3>::new(self.body_force, 0.0, 0.0),
             drive: Drive::Constant,
             scales,
+            sphere: None,
         })
     }
 

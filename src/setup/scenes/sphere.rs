@@ -1,8 +1,11 @@
-//! A fixed solid sphere in the 3D channel's box (`[scene.sphere]`). With `scene.walls = false`
-//! the box is the cell of a simple cubic array of spheres, whose Stokes drag Zick & Homsy
-//! (1982) computed for the whole range of solid fractions (their Table 2).
+//! A solid sphere in the 3D channel's box (`[scene.sphere]`), fixed or turning about its
+//! held centre ([`crate::engine::bodies::sphere`]). With `scene.walls = false` the box is
+//! the cell of a simple cubic array of spheres, whose Stokes drag Zick & Homsy (1982)
+//! computed for the whole range of solid fractions (their Table 2); between sliding plates,
+//! a freely rotating sphere in shear (Vázquez-Quesada & Ellero 2017, §III A).
 
 use super::support_in_dr;
+use crate::engine::bodies::sphere::Turning;
 use crate::engine::boundary::{Shape, Sphere};
 use crate::engine::dimension::Vector;
 use crate::engine::neighbours::Domain;
@@ -23,12 +26,78 @@ pub struct SphereSpec {
     /// several per cent low: the decision log).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shells: Option<usize>,
+    /// `fixed` (the default), `prescribed` (turning at a constant `spin`) or
+    /// `free-rotation` (centre held, turning under the fluid's torque). A sphere that
+    /// translates is not written yet.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub motion: Option<String>,
+    /// Ω [x, y, z]: constant when prescribed, initial when free.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub spin: Option<[f64; 3]>,
+    /// ρ_s/ρ_f of a freely rotating sphere (default 1, neutrally buoyant).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub density_ratio: Option<f64>,
+}
+
+/// How a validated sphere turns (None of it: fixed).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SphereTurning {
+    pub turning: Turning,
+    /// Ω at the start.
+    pub spin: Vector<3>,
+    /// ρ_s/ρ_f.
+    pub density_ratio: f64,
 }
 
 impl SphereSpec {
     /// `shells`, by default 3 (as the cylinder's rings are in the cases).
     pub fn shells(&self) -> usize {
         self.shells.unwrap_or(3)
+    }
+
+    /// `motion`, `spin` and `density_ratio`: None for a fixed sphere.
+    pub fn turning(&self) -> Result<Option<SphereTurning>, FieldError> {
+        let spin = self.spin.map(Vector::<3>::from);
+        if spin.is_some_and(|w| !w.iter().all(|c| c.is_finite())) {
+            return Err(field_err("scene.sphere.spin", "must be finite"));
+        }
+        let turning = match self.motion.as_deref().unwrap_or("fixed") {
+            "fixed" => None,
+            "prescribed" => Some(Turning::Prescribed),
+            "free-rotation" => Some(Turning::Free),
+            other => {
+                return Err(field_err(
+                    "scene.sphere.motion",
+                    format!("must be fixed, prescribed or free-rotation (a sphere that translates is not written yet), got {other:?}"),
+                ))
+            }
+        };
+        let density_ratio = match (turning, self.density_ratio) {
+            (Some(Turning::Free), Some(r)) => positive("scene.sphere.density_ratio", r)?,
+            (_, Some(_)) => {
+                return Err(field_err(
+                    "scene.sphere.density_ratio",
+                    "is for motion = \"free-rotation\" only",
+                ))
+            }
+            (_, None) => 1.0,
+        };
+        match (turning, spin) {
+            (None, Some(_)) => Err(field_err(
+                "scene.sphere.spin",
+                "a fixed sphere does not turn: motion = \"prescribed\" or \"free-rotation\"",
+            )),
+            (Some(Turning::Prescribed), None) => Err(field_err(
+                "scene.sphere.spin",
+                "required with motion = \"prescribed\"",
+            )),
+            (None, None) => Ok(None),
+            (Some(turning), spin) => Ok(Some(SphereTurning {
+                turning,
+                spin: spin.unwrap_or_else(Vector::<3>::zeros),
+                density_ratio,
+            })),
+        }
     }
 
     /// The sphere in `domain` at spacing `dr`. Its radius is at least two kernel supports
@@ -175,15 +244,16 @@ mod tests {
         spec.validate()
     }
 
-    /// A sphere is 3D, in a box without plates, two supports across at least, and its shells
-    /// must fit in the gap to its images; each refusal names its key.
+    /// A sphere is 3D, two supports across at least, and its shells must fit in the gap to
+    /// its images; between plates, whose speed sets the scale, it takes no scene.velocity;
+    /// each refusal names its key.
     #[test]
     fn a_sphere_is_refused_where_it_does_not_fit() {
         let field = |extra: &str| channel(extra).unwrap_err().0;
         let sphere = "[sphere]\nradius = 0.31\n";
         assert_eq!(field(&format!("walls = false\n{sphere}")), "scene.sphere");
         let space = "dimension = 3\ndepth = 1.0\n";
-        assert_eq!(field(&format!("{space}{sphere}")), "scene.walls");
+        assert_eq!(field(&format!("{space}{sphere}")), "scene.velocity");
         let periodic = format!("{space}walls = false\n");
         assert!(channel(&format!("{periodic}{sphere}")).is_ok());
         assert_eq!(

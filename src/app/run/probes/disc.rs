@@ -172,11 +172,7 @@ impl Probe for DiscProbe {
 
     /// The rows up to `t` from `disc.csv`.
     fn restore(&mut self, dir: &Path, t: f64, _state: Option<&serde_json::Value>) -> Result<()> {
-        let rows: Vec<DiscRow> = table::read_rows(&dir.join("disc.csv"))?;
-        self.rows = rows
-            .into_iter()
-            .filter(|r| r.t <= t * (1.0 + 1e-9))
-            .collect();
+        self.rows = super::rows_until(&dir.join("disc.csv"), t, |r: &DiscRow| r.t)?;
         Ok(())
     }
 

@@ -13,6 +13,7 @@ pub mod disc;
 pub mod drop;
 pub mod jet;
 pub mod meniscus;
+pub mod rotation;
 pub mod sphere;
 pub mod steady;
 
@@ -110,6 +111,20 @@ impl Probes {
     }
 }
 
+/// The rows of a probe's own CSV file at `path` up to the checkpoint's time `t` (what a
+/// resumed run keeps of it); `time` reads a row's t.
+pub fn rows_until<R: serde::de::DeserializeOwned>(
+    path: &Path,
+    t: f64,
+    time: fn(&R) -> f64,
+) -> Result<Vec<R>> {
+    let rows: Vec<R> = crate::app::table::read_rows(path)?;
+    Ok(rows
+        .into_iter()
+        .filter(|r| time(r) <= t * (1.0 + 1e-9))
+        .collect())
+}
+
 /// The names of the probes of `case`, in its dimension.
 pub fn names(case: &Case) -> Vec<&'static str> {
     match case.scene.dimension() {
@@ -119,11 +134,21 @@ pub fn names(case: &Case) -> Vec<&'static str> {
 }
 
 impl Probes<3> {
-    /// The probes that apply to a case in space: a fixed sphere's drag.
+    /// The probes that apply to a case in space: a sphere's drag in a periodic box (the
+    /// box's momentum balance, which plates would share), its rotation and torque between
+    /// plates or when it turns.
     pub fn in_space(case: &Case) -> Self {
         let mut probes: Vec<Box<dyn Probe<3>>> = Vec::new();
-        if let Some(s) = case.scene.sphere() {
-            probes.push(Box::new(sphere::SphereProbe::new(case, s)));
+        let scene = &case.scene;
+        if let Some(s) = scene.sphere() {
+            let in_box = scene.periodic()[1];
+            if in_box {
+                probes.push(Box::new(sphere::SphereProbe::new(case, s)));
+            }
+            if !in_box || scene.sphere_turns() {
+                let shear = scene.wall_shear_rate();
+                probes.push(Box::new(rotation::RotationProbe::new(s, shear)));
+            }
         }
         Self(probes)
     }
