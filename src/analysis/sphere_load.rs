@@ -13,6 +13,7 @@
 //! gives the drag without the body force of every particle, so the two disagree by the
 //! discretisation error of the flow near the body and of the integral.
 
+use crate::engine::bodies::sphere::{fibonacci, PolymerFits};
 use crate::engine::bodies::traction::fit;
 use crate::engine::boundary::Sphere;
 use crate::engine::dimension::Vector;
@@ -33,7 +34,7 @@ fn traction(
     let viscoelastic = sim.fluid.model.is_viscoelastic();
     let mut linear = Vec::new();
     let mut quadratic: [Vec<([f64; 10], f64, f64)>; 3] = Default::default();
-    let mut polymer: [Vec<([f64; 4], f64, f64)>; 6] = Default::default();
+    let mut polymer = PolymerFits::default();
     for &i in near {
         let d = sim.domain.min_image(s.position[i] - point);
         if d.norm() >= support {
@@ -48,11 +49,7 @@ fn traction(
             rows.push((q, s.velocity[i][a], w));
         }
         if viscoelastic {
-            let t = &tau[i];
-            let entries = [(0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2)];
-            for (rows, (a, b)) in polymer.iter_mut().zip(entries) {
-                rows.push((l, t.entry(a, b), w));
-            }
+            polymer.push(l, &tau[i], w);
         }
     }
     let p = fit(&linear)?[0];
@@ -66,21 +63,7 @@ fn traction(
         }
     }
     let tau_p = match viscoelastic {
-        true => {
-            let mut v = [0.0; 6];
-            for (k, rows) in polymer.iter().enumerate() {
-                v[k] = fit(rows)?[0];
-            }
-            let index = |a: usize, b: usize| match (a.min(b), a.max(b)) {
-                (0, 0) => 0,
-                (0, 1) => 1,
-                (0, 2) => 2,
-                (1, 1) => 3,
-                (1, 2) => 4,
-                _ => 5,
-            };
-            Sym3::from_entries(|a, b| v[index(a, b)])
-        }
+        true => polymer.value()?,
         false => Sym3::ZERO,
     };
     let strain = Sym3::sym_part(&grad) * (2.0 * sim.fluid.solvent_viscosity());
@@ -106,17 +89,11 @@ pub fn on_control_sphere(
         })
         .collect();
     let tau = sim.polymer_stress();
-    let golden = std::f64::consts::PI * (3.0 - 5.0f64.sqrt());
     let area = 4.0 * std::f64::consts::PI * radius * radius / samples as f64;
-    let surface: Option<Vec<Vector<3>>> = (0..samples)
-        .into_par_iter()
-        .map(|j| {
-            let z = 1.0 - (2.0 * j as f64 + 1.0) / samples as f64;
-            let rho = (1.0 - z * z).sqrt();
-            let phi = golden * j as f64;
-            let n = Vector::<3>::new(rho * phi.cos(), rho * phi.sin(), z);
-            traction(sim, &near, &tau, sphere.centre + n * radius, n)
-        })
+    let normals: Vec<Vector<3>> = fibonacci(samples, 0.0).collect();
+    let surface: Option<Vec<Vector<3>>> = normals
+        .par_iter()
+        .map(|&n| traction(sim, &near, &tau, sphere.centre + n * radius, n))
         .collect();
     let integral: Vector<3> = surface?.iter().sum::<Vector<3>>() * area;
     let enclosed = 4.0 / 3.0 * std::f64::consts::PI * radius.powi(3);

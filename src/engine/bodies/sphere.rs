@@ -36,16 +36,55 @@ use std::sync::Arc;
 /// Surface points of the torque integration per δr² of the sphere's area.
 const SAMPLES_PER_AREA: f64 = 2.0;
 
+/// The golden angle π(3 − √5), a Fibonacci spiral's turn from one point to the next.
+pub fn golden_angle() -> f64 {
+    PI * (3.0 - 5.0f64.sqrt())
+}
+
 /// `n` unit vectors on a Fibonacci spiral, each the centre of an equal area of the unit
 /// sphere, the spiral turned by `turn` about the z axis.
 pub fn fibonacci(n: usize, turn: f64) -> impl Iterator<Item = Vector<3>> {
-    let golden = PI * (3.0 - 5.0f64.sqrt());
+    let golden = golden_angle();
     (0..n).map(move |j| {
         let z = 1.0 - (2.0 * j as f64 + 1.0) / n as f64;
         let rho = (1.0 - z * z).sqrt();
         let phi = golden * j as f64 + turn;
         Vector::<3>::new(rho * phi.cos(), rho * phi.sin(), z)
     })
+}
+
+/// Weighted least-squares fits of the six components of τ_p, linear about a surface point;
+/// the wall value is each fit's constant.
+#[derive(Default)]
+pub struct PolymerFits {
+    rows: [Vec<([f64; 4], f64, f64)>; 6],
+}
+
+impl PolymerFits {
+    /// The upper triangle's entries, in the order of `rows`.
+    const ENTRIES: [(usize, usize); 6] = [(0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2)];
+
+    /// A particle at `d`/h from the point (`[1, x, y, z]`) with stress `tau` and weight `w`.
+    pub fn push(&mut self, linear: [f64; 4], tau: &Sym3, w: f64) {
+        for (rows, (a, b)) in self.rows.iter_mut().zip(Self::ENTRIES) {
+            rows.push((linear, tau.entry(a, b), w));
+        }
+    }
+
+    /// τ_p at the point; None where a fit is singular.
+    pub fn value(&self) -> Option<Sym3> {
+        let mut v = [0.0; 6];
+        for (value, rows) in v.iter_mut().zip(&self.rows) {
+            *value = fit(rows)?[0];
+        }
+        let k = |a: usize, b: usize| {
+            Self::ENTRIES
+                .iter()
+                .position(|&e| e == (a.min(b), a.max(b)))
+                .expect("an entry of the triangle")
+        };
+        Some(Sym3::from_entries(|a, b| v[k(a, b)]))
+    }
 }
 
 /// How a sphere turns.
@@ -162,8 +201,7 @@ fn traction(
     let (h, support) = (kernel.h(), kernel.support());
     let viscoelastic = fluid.model.is_viscoelastic();
     let mut velocity: [Vec<([f64; 9], f64, f64)>; 3] = Default::default();
-    let mut polymer: [Vec<([f64; 4], f64, f64)>; 6] = Default::default();
-    const ENTRIES: [(usize, usize); 6] = [(0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2)];
+    let mut polymer = PolymerFits::default();
     for &i in near {
         let d = view.domain.min_image(s.position[i] - point);
         if d.norm() >= support {
@@ -177,9 +215,7 @@ fn traction(
         }
         if viscoelastic {
             let t: Sym3 = fluid.polymer_stress(&s.conformation[i]);
-            for (rows, (a, b)) in polymer.iter_mut().zip(ENTRIES) {
-                rows.push(([1.0, x, y, z], t.entry(a, b), w));
-            }
+            polymer.push([1.0, x, y, z], &t, w);
         }
     }
     let mut grad = Mat3::zeros();
@@ -189,14 +225,10 @@ fn traction(
             grad[(a, b)] = c[b] / h;
         }
     }
-    let mut tau = [0.0; 6];
-    if viscoelastic {
-        for (value, rows) in tau.iter_mut().zip(&polymer) {
-            *value = fit(rows)?[0];
-        }
-    }
-    let k = |a: usize, b: usize| ENTRIES.iter().position(|&e| e == (a.min(b), a.max(b)));
-    let tau_p = Sym3::from_entries(|a, b| k(a, b).map_or(0.0, |k| tau[k]));
+    let tau_p = match viscoelastic {
+        true => polymer.value()?,
+        false => Sym3::ZERO,
+    };
     let strain = Sym3::sym_part(&grad) * (2.0 * fluid.solvent_viscosity());
     Some(strain.dot(n) + tau_p.dot(n))
 }

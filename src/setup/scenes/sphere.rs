@@ -5,7 +5,7 @@
 //! a freely rotating sphere in shear (Vázquez-Quesada & Ellero 2017, §III A).
 
 use super::support_in_dr;
-use crate::engine::bodies::sphere::Turning;
+use crate::engine::bodies::sphere::{fibonacci, golden_angle, Turning};
 use crate::engine::boundary::{Shape, Sphere};
 use crate::engine::dimension::Vector;
 use crate::engine::neighbours::Domain;
@@ -168,18 +168,12 @@ pub fn solid_fraction(sphere: &Sphere, domain: &Domain<3>) -> f64 {
 /// that neighbouring shells' points do not line up radially. The lattice keeps only the
 /// points at least `count`·δr from the surface, half a spacing beyond the last shell.
 pub fn shells(sphere: &Sphere, count: usize, dr: f64, domain: &Domain<3>) -> Vec<Vector<3>> {
-    let golden = std::f64::consts::PI * (3.0 - 5.0f64.sqrt());
     let mut points = Vec::new();
     for k in 0..count {
         let r = sphere.radius + (k as f64 + 0.5) * dr;
         let n = (4.0 * std::f64::consts::PI * r * r / (dr * dr)).round() as usize;
-        let turn = 0.5 * golden * (k % 2) as f64;
-        points.extend((0..n).map(|j| {
-            let z = 1.0 - (2.0 * j as f64 + 1.0) / n as f64;
-            let rho = (1.0 - z * z).sqrt();
-            let phi = golden * j as f64 + turn;
-            domain.wrap(sphere.centre + Vector::<3>::new(rho * phi.cos(), rho * phi.sin(), z) * r)
-        }));
+        let turn = 0.5 * golden_angle() * (k % 2) as f64;
+        points.extend(fibonacci(n, turn).map(|u| domain.wrap(sphere.centre + u * r)));
     }
     points
 }
