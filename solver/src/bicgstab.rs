@@ -6,17 +6,60 @@ use crate::vector::{dot, for_each_mut, norm, spmv, sum};
 use crate::{NullSpace, Preconditioner, SolverOptions};
 use sprs::CsMat;
 
+/// The work vectors of one BiCGStab recurrence (r, r̂, p, v, s, t, y = M⁻¹p, z = M⁻¹s),
+/// sized on first use and reused afterwards.
+#[derive(Default)]
+pub(crate) struct Vectors {
+    pub r: Vec<f64>,
+    pub r_hat: Vec<f64>,
+    pub p: Vec<f64>,
+    pub v: Vec<f64>,
+    pub s: Vec<f64>,
+    pub t: Vec<f64>,
+    pub y: Vec<f64>,
+    pub z: Vec<f64>,
+}
+
+impl Vectors {
+    fn all(&self) -> [&Vec<f64>; 8] {
+        [
+            &self.r,
+            &self.r_hat,
+            &self.p,
+            &self.v,
+            &self.s,
+            &self.t,
+            &self.y,
+            &self.z,
+        ]
+    }
+
+    pub(crate) fn heap_bytes(&self) -> usize {
+        let capacity: usize = self.all().iter().map(|v| v.capacity()).sum();
+        capacity * std::mem::size_of::<f64>()
+    }
+
+    pub(crate) fn resize(&mut self, n: usize) {
+        let Self {
+            r,
+            r_hat,
+            p,
+            v,
+            s,
+            t,
+            y,
+            z,
+        } = self;
+        for v in [r, r_hat, p, v, s, t, y, z] {
+            v.resize(n, 0.0);
+        }
+    }
+}
+
 /// Work vectors of BiCGStab, sized on first use and reused afterwards.
 #[derive(Default)]
 pub struct BiCgStabWorkspace {
-    r: Vec<f64>,
-    r_hat: Vec<f64>,
-    p: Vec<f64>,
-    v: Vec<f64>,
-    s: Vec<f64>,
-    t: Vec<f64>,
-    y: Vec<f64>,
-    z: Vec<f64>,
+    vectors: Vectors,
     inv_diag: Vec<f64>,
     pub(crate) partials: Vec<f64>,
     /// The AMG hierarchy (AMG preconditioning only), its age in solves and the iterations
@@ -35,13 +78,13 @@ const AMG_MAX_AGE: usize = 20;
 /// Measured viscous solve times, Jacobi against AMG: drop impact (ratio 0.62) 5.8 s against
 /// 7.6 s; cylinder array R/δr = 9 (0.82) 0.31 against 0.33 s; R/δr = 18 (0.95) 3.9 against
 /// 2.8 s; P2 (> 0.99) 15.5 against 8.3 s. The PPE's Laplacian rows have the ratio 1.
-const WEAK_COUPLING: f64 = 0.9;
+pub(crate) const WEAK_COUPLING: f64 = 0.9;
 /// Jacobi iterations after which [`Preconditioner::Adaptive`] turns to AMG. An AMG iteration
 /// costs ~5 Jacobi ones and its set-up ~100 (`rheosph bench --solvers`, 16k unknowns), and a
 /// hierarchy serves up to [`AMG_MAX_AGE`] solves: a solve that needs 40 Jacobi iterations
 /// would need hundreds at the tolerances of the PPE, where AMG needs ~10. The warm-started
 /// Lagrangian PPE of an explicit run needs a few, and never pays for a hierarchy.
-const JACOBI_BUDGET: usize = 40;
+pub(crate) const JACOBI_BUDGET: usize = 40;
 
 pub(crate) struct Outcome {
     pub converged: bool,
@@ -68,25 +111,12 @@ impl Operator<'_> {
 
 /// Restarts allowed when the recurrence breaks down or the recursive residual drifts from
 /// the true one.
-const MAX_RESTARTS: usize = 8;
+pub(crate) const MAX_RESTARTS: usize = 8;
 
 impl BiCgStabWorkspace {
     pub(crate) fn heap_bytes(&self) -> usize {
-        [
-            &self.r,
-            &self.r_hat,
-            &self.p,
-            &self.v,
-            &self.s,
-            &self.t,
-            &self.y,
-            &self.z,
-            &self.inv_diag,
-            &self.partials,
-        ]
-        .iter()
-        .map(|v| v.capacity() * std::mem::size_of::<f64>())
-        .sum::<usize>()
+        self.vectors.heap_bytes()
+            + (self.inv_diag.capacity() + self.partials.capacity()) * std::mem::size_of::<f64>()
             + self.amg.as_ref().map_or(0, |a| a.heap_bytes())
     }
 
@@ -96,25 +126,19 @@ impl BiCgStabWorkspace {
         self.amg = None;
     }
 
+    /// Whether an AMG hierarchy is held.
+    pub(crate) fn has_amg(&self) -> bool {
+        self.amg.is_some()
+    }
+
     /// The level sizes of the AMG hierarchy last used (empty with Jacobi).
     pub fn amg_levels(&self) -> Vec<usize> {
         self.amg.as_ref().map_or(Vec::new(), |a| a.sizes())
     }
 
     fn resize(&mut self, n: usize) {
-        for v in [
-            &mut self.r,
-            &mut self.r_hat,
-            &mut self.p,
-            &mut self.v,
-            &mut self.s,
-            &mut self.t,
-            &mut self.y,
-            &mut self.z,
-            &mut self.inv_diag,
-        ] {
-            v.resize(n, 0.0);
-        }
+        self.vectors.resize(n);
+        self.inv_diag.resize(n, 0.0);
     }
 
     pub(crate) fn solve(
@@ -148,13 +172,13 @@ impl BiCgStabWorkspace {
         let mut converged_residual = None;
         for restart in 0..=MAX_RESTARTS {
             self.true_residual(&op, b, x, rank_one);
-            let mut residual = norm(&self.r, &mut self.partials);
+            let mut residual = norm(&self.vectors.r, &mut self.partials);
             if restart == 0 && residual > b_norm {
                 // The guess is worse than none (e.g. the previous step's pressure when it
                 // was mostly the correction of that step's leftover divergence): start cold.
                 x.iter_mut().for_each(|v| *v = 0.0);
                 self.true_residual(&op, b, x, rank_one);
-                residual = norm(&self.r, &mut self.partials);
+                residual = norm(&self.vectors.r, &mut self.partials);
             }
             if residual <= target {
                 converged_residual = Some(residual);
@@ -240,19 +264,19 @@ impl BiCgStabWorkspace {
         }
     }
 
-    /// The true residual r = b − A'x into `self.r`. For the rank-one operator, x is first
+    /// The true residual r = b − A'x into `self.vectors.r`. For the rank-one operator, x is first
     /// shifted by the constant that removes the residual's mean: A'(k1) = c n k 1, and a
     /// zero-mean warm start (the previous pressure) would otherwise begin with the whole
     /// incompatible part μ1 of b as its residual.
     fn true_residual(&mut self, op: &Operator, b: &[f64], x: &mut [f64], rank_one: f64) {
         let n = b.len();
-        op.apply(x, &mut self.r, &mut self.partials);
-        for_each_mut(&mut self.r, |i, ri| *ri = b[i] - *ri);
+        op.apply(x, &mut self.vectors.r, &mut self.partials);
+        for_each_mut(&mut self.vectors.r, |i, ri| *ri = b[i] - *ri);
         if rank_one != 0.0 {
-            let mean = sum(&self.r, &mut self.partials) / n as f64;
+            let mean = sum(&self.vectors.r, &mut self.partials) / n as f64;
             let shift = mean / (rank_one * n as f64);
             for_each_mut(x, |_, v| *v += shift);
-            for_each_mut(&mut self.r, |_, ri| *ri -= mean);
+            for_each_mut(&mut self.vectors.r, |_, ri| *ri -= mean);
         }
     }
 
@@ -260,6 +284,13 @@ impl BiCgStabWorkspace {
     /// spent; stops on convergence of the recursive residual, breakdown, or the budget.
     fn iterate(&mut self, op: &Operator, x: &mut [f64], target: f64, budget: usize) -> usize {
         let Self {
+            vectors,
+            inv_diag,
+            partials,
+            amg,
+            ..
+        } = self;
+        let Vectors {
             r,
             r_hat,
             p,
@@ -268,11 +299,7 @@ impl BiCgStabWorkspace {
             t,
             y,
             z,
-            inv_diag,
-            partials,
-            amg,
-            ..
-        } = self;
+        } = vectors;
         let mut precondition = |x: &[f64], y: &mut [f64]| match amg.as_mut() {
             Some(m) => m.apply(x, y),
             None => apply_jacobi(inv_diag, x, y),
@@ -340,22 +367,22 @@ impl BiCgStabWorkspace {
         x: &[f64],
         null_space: NullSpace,
     ) -> f64 {
-        self.r.resize(b.len(), 0.0);
-        spmv(a, x, &mut self.r);
-        for_each_mut(&mut self.r, |i, ri| *ri = b[i] - *ri);
+        self.vectors.r.resize(b.len(), 0.0);
+        spmv(a, x, &mut self.vectors.r);
+        for_each_mut(&mut self.vectors.r, |i, ri| *ri = b[i] - *ri);
         if null_space == NullSpace::Constant {
-            remove_mean(&mut self.r, &mut self.partials);
+            remove_mean(&mut self.vectors.r, &mut self.partials);
         }
-        norm(&self.r, &mut self.partials)
+        norm(&self.vectors.r, &mut self.partials)
     }
 }
 
-fn apply_jacobi(inv_diag: &[f64], x: &[f64], y: &mut [f64]) {
+pub(crate) fn apply_jacobi(inv_diag: &[f64], x: &[f64], y: &mut [f64]) {
     for_each_mut(y, |i, yi| *yi = inv_diag[i] * x[i]);
 }
 
 /// Inverse diagonal of `A + shift 1 1ᵀ`; rows with a zero diagonal are left unscaled.
-fn jacobi(a: &CsMat<f64>, shift: f64, inv_diag: &mut [f64]) {
+pub(crate) fn jacobi(a: &CsMat<f64>, shift: f64, inv_diag: &mut [f64]) {
     for_each_mut(inv_diag, |i, d| {
         let diag = diagonal_entries(a, i).sum::<f64>() + shift;
         *d = if diag != 0.0 && diag.is_finite() {
@@ -379,7 +406,7 @@ fn diagonal_entries(a: &CsMat<f64>, i: usize) -> impl Iterator<Item = f64> + '_ 
 }
 
 /// max_i Σ_{j≠i} |a_ij| / |a_ii| (∞ for a zero diagonal).
-fn off_diagonal_ratio(a: &CsMat<f64>) -> f64 {
+pub(crate) fn off_diagonal_ratio(a: &CsMat<f64>) -> f64 {
     (0..a.rows())
         .map(|i| {
             let row = a.outer_view(i).expect("row in range");

@@ -24,6 +24,7 @@
 
 pub mod amg;
 mod bicgstab;
+mod lanes;
 mod lu;
 pub mod vector;
 
@@ -155,6 +156,13 @@ pub struct Solver {
     factorisation: Option<lu::Factorisation>,
     factorisations: usize,
     lu_x: Vec<f64>,
+    /// The workspaces of [`Solver::solve_many`]'s lanes.
+    lanes: Vec<bicgstab::Vectors>,
+    lane_scratch: lanes::Scratch,
+    /// The lanes' guesses, kept to start over one after the other (see [`lanes::solve`]).
+    lane_guesses: Vec<Vec<f64>>,
+    /// The last lock-step attempt turned to AMG; set until a solve needs no hierarchy.
+    lanes_gave_up: bool,
 }
 
 impl Solver {
@@ -173,28 +181,11 @@ impl Solver {
         x: &mut [f64],
         options: &SolverOptions,
     ) -> Result<SolveReport, SolveError> {
-        let (rows, cols) = a.shape();
-        if rows != cols || b.len() != rows || x.len() != rows || !a.is_csr() {
-            return Err(SolveError::Dimension {
-                rows,
-                cols,
-                rhs: b.len(),
-                guess: x.len(),
-            });
-        }
-        if !b.iter().chain(x.iter()).all(|v| v.is_finite()) {
-            return Err(SolveError::NonFinite);
-        }
+        check(a, b, x)?;
         let b_norm = vector::norm(b, &mut self.bicgstab.partials);
         if b_norm == 0.0 {
             x.iter_mut().for_each(|v| *v = 0.0);
-            return Ok(SolveReport {
-                method: Method::BiCgStab,
-                iterations: 0,
-                relative_residual: 0.0,
-                fell_back: false,
-                on_absolute_floor: false,
-            });
+            return Ok(ZERO_RIGHT_HAND_SIDE);
         }
         let mut iterations = 0;
         let mut best_residual = f64::INFINITY;
@@ -203,18 +194,143 @@ impl Solver {
             iterations = outcome.iterations;
             best_residual = outcome.relative_residual;
             if outcome.converged {
-                return Ok(SolveReport {
-                    method: Method::BiCgStab,
-                    iterations,
-                    relative_residual: outcome.relative_residual,
-                    fell_back: false,
-                    on_absolute_floor: outcome.relative_residual > options.relative_tolerance,
-                });
+                return Ok(converged(
+                    outcome.iterations,
+                    outcome.relative_residual,
+                    options,
+                ));
             }
         }
+        self.fall_back(
+            a,
+            b,
+            x,
+            options,
+            Unconverged {
+                iterations,
+                best_residual,
+                b_norm,
+            },
+        )
+    }
+
+    /// Solves `A x_m = b_m` for M right-hand sides of one matrix: the result of
+    /// [`Self::solve`] on each in turn (the later ones told the matrix is unchanged), bit
+    /// for bit. Where BiCGStab stays on Jacobi without a null space (an implicit viscous
+    /// step's components), the solves run in lock-step and share each pass over the matrix
+    /// ([`lanes`]); otherwise one after the other.
+    pub fn solve_many<const M: usize>(
+        &mut self,
+        a: &CsMat<f64>,
+        b: [&[f64]; M],
+        x: [&mut [f64]; M],
+        options: &SolverOptions,
+    ) -> Result<[SolveReport; M], SolveError> {
+        if !self.lanes_apply(options) || M < 2 || self.lanes_gave_up {
+            let reports = self.one_after_another(a, b, x, options);
+            // Jacobi served without a hierarchy: the lanes may try again.
+            self.lanes_gave_up &= self.bicgstab.has_amg();
+            return reports;
+        }
+        for (b, x) in b.iter().zip(&x) {
+            check(a, b, x)?;
+        }
+        self.lanes
+            .resize_with(M.max(self.lanes.len()), Default::default);
+        self.lane_guesses
+            .resize_with(M.max(self.lane_guesses.len()), Vec::new);
+        for (saved, x) in self.lane_guesses.iter_mut().zip(&x) {
+            saved.clear();
+            saved.extend_from_slice(x);
+        }
+        let mut x = x;
+        let lanes = {
+            let x: [&mut [f64]; M] = x.each_mut().map(|x| &mut **x);
+            lanes::solve(a, b, x, &mut self.lanes, &mut self.lane_scratch, options)
+        };
+        let Some(outcomes) = lanes else {
+            for (x, saved) in x.iter_mut().zip(&self.lane_guesses) {
+                x.copy_from_slice(saved);
+            }
+            // Not again while the matrix wants AMG: the attempt cost ~40 iterations.
+            self.lanes_gave_up = true;
+            return self.one_after_another(a, b, x, options);
+        };
+        if options.preconditioner == Preconditioner::Jacobi {
+            self.bicgstab.invalidate();
+        }
+        let mut reports = [ZERO_RIGHT_HAND_SIDE; M];
+        let mut options = *options;
+        for (c, (outcome, x)) in outcomes.iter().zip(x).enumerate() {
+            if outcome.converged {
+                reports[c] = converged(outcome.iterations, outcome.relative_residual, &options);
+                continue;
+            }
+            let b_norm = vector::norm(b[c], &mut self.bicgstab.partials);
+            let unconverged = Unconverged {
+                iterations: outcome.iterations,
+                best_residual: outcome.relative_residual,
+                b_norm,
+            };
+            let factorisations = self.factorisations;
+            reports[c] = self.fall_back(a, b[c], x, &options, unconverged)?;
+            // Later lanes reuse the factors of this matrix.
+            options.matrix_unchanged |= self.factorisations > factorisations;
+        }
+        Ok(reports)
+    }
+
+    /// [`Self::solve`] on each right-hand side in turn, the later ones told the matrix is
+    /// unchanged.
+    fn one_after_another<const M: usize>(
+        &mut self,
+        a: &CsMat<f64>,
+        b: [&[f64]; M],
+        x: [&mut [f64]; M],
+        options: &SolverOptions,
+    ) -> Result<[SolveReport; M], SolveError> {
+        let mut reports = [ZERO_RIGHT_HAND_SIDE; M];
+        for (c, (b, x)) in b.into_iter().zip(x).enumerate() {
+            let options = SolverOptions {
+                matrix_unchanged: options.matrix_unchanged || c > 0,
+                ..*options
+            };
+            reports[c] = self.solve(a, b, x, &options)?;
+        }
+        Ok(reports)
+    }
+
+    /// Whether [`Self::solve_many`] can try its solves in lock-step: BiCGStab on Jacobi (the
+    /// adaptive choice starts there when no hierarchy is held) and no null space.
+    fn lanes_apply(&self, options: &SolverOptions) -> bool {
+        let iterative = options.strategy == Strategy::IterativeWithFallback
+            && options.null_space == NullSpace::None;
+        let jacobi = match options.preconditioner {
+            Preconditioner::Jacobi => true,
+            Preconditioner::Amg => false,
+            Preconditioner::Adaptive => !self.bicgstab.has_amg(),
+        };
+        iterative && jacobi
+    }
+
+    /// The sparse LU after BiCGStab did not converge (or the direct strategy): its solution
+    /// when its residual is the better one.
+    fn fall_back(
+        &mut self,
+        a: &CsMat<f64>,
+        b: &[f64],
+        x: &mut [f64],
+        options: &SolverOptions,
+        unconverged: Unconverged,
+    ) -> Result<SolveReport, SolveError> {
+        let Unconverged {
+            iterations,
+            best_residual,
+            b_norm,
+        } = unconverged;
         let fell_back = options.strategy == Strategy::IterativeWithFallback;
         let mut lu_x = std::mem::take(&mut self.lu_x);
-        lu_x.resize(rows, 0.0);
+        lu_x.resize(b.len(), 0.0);
         let direct = self.direct(a, b, &mut lu_x, options);
         let residual = self
             .bicgstab
@@ -246,6 +362,51 @@ impl Solver {
     }
 }
 
+/// Where BiCGStab left a solve that the LU then takes over.
+#[derive(Clone, Copy)]
+struct Unconverged {
+    iterations: usize,
+    best_residual: f64,
+    b_norm: f64,
+}
+
+/// The report of a right-hand side b = 0, whose solution x = 0 is returned at once.
+const ZERO_RIGHT_HAND_SIDE: SolveReport = SolveReport {
+    method: Method::BiCgStab,
+    iterations: 0,
+    relative_residual: 0.0,
+    fell_back: false,
+    on_absolute_floor: false,
+};
+
+/// The report of a converged BiCGStab solve.
+fn converged(iterations: usize, relative_residual: f64, options: &SolverOptions) -> SolveReport {
+    SolveReport {
+        method: Method::BiCgStab,
+        iterations,
+        relative_residual,
+        fell_back: false,
+        on_absolute_floor: relative_residual > options.relative_tolerance,
+    }
+}
+
+/// A square CSR matrix, with a right-hand side and a guess of its size, all finite.
+fn check(a: &CsMat<f64>, b: &[f64], x: &[f64]) -> Result<(), SolveError> {
+    let (rows, cols) = a.shape();
+    if rows != cols || b.len() != rows || x.len() != rows || !a.is_csr() {
+        return Err(SolveError::Dimension {
+            rows,
+            cols,
+            rhs: b.len(),
+            guess: x.len(),
+        });
+    }
+    if !b.iter().chain(x.iter()).all(|v| v.is_finite()) {
+        return Err(SolveError::NonFinite);
+    }
+    Ok(())
+}
+
 impl Solver {
     /// Heap bytes of the iterative workspace (the LU factors, when present, are faer's and
     /// not counted).
@@ -257,6 +418,17 @@ impl Solver {
 
     pub fn heap_bytes(&self) -> usize {
         self.bicgstab.heap_bytes()
+            + self
+                .lanes
+                .iter()
+                .map(bicgstab::Vectors::heap_bytes)
+                .sum::<usize>()
+            + self.lane_scratch.heap_bytes()
+            + self
+                .lane_guesses
+                .iter()
+                .map(|v| v.capacity() * 8)
+                .sum::<usize>()
     }
 
     /// Number of LU factorisations computed so far (reuse shows as solves without one).

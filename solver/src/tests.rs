@@ -429,3 +429,96 @@ fn adaptive_preconditioner_is_jacobi_until_jacobi_runs_long() {
     );
     assert!(error < 1e-4, "error {error}");
 }
+
+/// `solve_many` on the components of an implicit diffusion step: each result is the one a
+/// solve on its own gives, bit for bit (the lanes share only the passes over the matrix),
+/// with Jacobi and with the adaptive choice (whose Jacobi budget the tight tolerance
+/// exhausts), through the LU fallback, and with a zero right-hand side among the lanes.
+#[test]
+fn lock_step_solves_equal_one_solve_after_another_bit_for_bit() {
+    let m = 100; // 10,000 unknowns: the parallel kernels
+    let diffusion = convection_diffusion(m, false, 3.0);
+    // I + c A, weakly coupled as the viscous matrix (off-diagonal ratio below 0.9).
+    let largest = diffusion.diag().data().iter().copied().fold(0.0, f64::max);
+    let identity = CsMat::<f64>::eye(m * m);
+    let weak = &identity + &diffusion.map(|v| v * 8.5 / largest);
+    let ratio = bicgstab::off_diagonal_ratio(&weak);
+    assert!(
+        ratio < bicgstab::WEAK_COUPLING && ratio > 0.8,
+        "ratio {ratio}"
+    );
+    // Strongly coupled: the adaptive choice turns to AMG, and the lanes start over one
+    // after the other.
+    let strong = &identity + &diffusion.map(|v| v * 200.0 / largest);
+    assert!(bicgstab::off_diagonal_ratio(&strong) > bicgstab::WEAK_COUPLING);
+    let n = m * m;
+    let b0 = smooth_field(n);
+    let b1: Vec<f64> = (0..n)
+        .map(|i| ((i * 7919) % 1000) as f64 / 1000.0 - 0.4)
+        .collect();
+    let b2: Vec<f64> = (0..n).map(|i| (i as f64 * 0.013).cos()).collect();
+    let guess: Vec<f64> = b0.iter().map(|v| 0.9 * v).collect();
+    // The third: BiCGStab stopped early, the LU takes over each lane (the later ones
+    // reusing its factors).
+    let runs = [
+        (&weak, Preconditioner::Jacobi, 2000),
+        (&weak, Preconditioner::Adaptive, 2000),
+        (&weak, Preconditioner::Jacobi, 5),
+        (&strong, Preconditioner::Adaptive, 2000),
+    ];
+    for (a, preconditioner, max_iterations) in runs {
+        let options = SolverOptions {
+            relative_tolerance: 1e-13,
+            preconditioner,
+            max_iterations,
+            ..Default::default()
+        };
+        let mut one_by_one = Solver::new();
+        let mut expected = [guess.clone(), b1.clone(), guess.clone()];
+        let mut reports = Vec::new();
+        for (c, (b, x)) in [&b0, &b1, &b2].into_iter().zip(&mut expected).enumerate() {
+            let options = SolverOptions {
+                matrix_unchanged: c > 0,
+                ..options
+            };
+            reports.push(one_by_one.solve(a, b, x, &options).unwrap());
+        }
+        let mut lanes = Solver::new();
+        assert!(lanes.lanes_apply(&options));
+        let mut got = [guess.clone(), b1.clone(), guess.clone()];
+        let [g0, g1, g2] = &mut got;
+        let lane_reports = lanes
+            .solve_many(a, [&b0, &b1, &b2], [g0, g1, g2], &options)
+            .unwrap();
+        assert_eq!(lanes.lanes.len(), 3, "the lock-step path was taken");
+        assert_eq!(lane_reports.to_vec(), reports, "{preconditioner:?}");
+        if max_iterations < bicgstab::JACOBI_BUDGET {
+            assert!(reports[0].fell_back && reports[1].fell_back);
+            assert_eq!(lanes.factorisations(), 1);
+        } else {
+            assert!(reports[0].iterations > bicgstab::JACOBI_BUDGET);
+            assert_ne!(reports[0].iterations, reports[1].iterations);
+        }
+        for (g, e) in got.iter().zip(&expected) {
+            let same = g.iter().zip(e).all(|(g, e)| g.to_bits() == e.to_bits());
+            assert!(same, "{preconditioner:?}");
+        }
+        assert!(max_diff(&matvec(a, &got[0]), &b0) < 1e-10);
+        let amg = !lanes.bicgstab.amg_levels().is_empty();
+        assert_eq!(
+            amg,
+            std::ptr::eq(a, &strong),
+            "a hierarchy only where AMG took over"
+        );
+    }
+    // A zero right-hand side among the lanes: x = 0 at once, as on its own.
+    let (mut x0, mut x1) = (guess.clone(), guess.clone());
+    let options = SolverOptions::default();
+    let zero = vec![0.0; n];
+    let mut lanes = Solver::new();
+    let reports = lanes
+        .solve_many(&weak, [&b0, &zero], [&mut x0, &mut x1], &options)
+        .unwrap();
+    assert!(x1.iter().all(|v| *v == 0.0) && reports[1].iterations == 0);
+    assert!(reports[0].iterations > 0 && max_diff(&matvec(&weak, &x0), &b0) < 1e-6);
+}

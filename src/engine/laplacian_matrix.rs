@@ -191,7 +191,28 @@ impl LaplacianMatrix {
         x: &mut [f64],
         options: &SolverOptions,
     ) -> Result<SolveReport, SolveError> {
-        let n = rhs.len();
+        self.with_matrix(rhs.len(), |solver, matrix| {
+            solver.solve(matrix, rhs, x, options)
+        })
+    }
+
+    /// Solves `M x_m = rhs_m` for several right-hand sides (the velocity components):
+    /// bit for bit [`Self::solve`] on each in turn, sharing the passes over the matrix
+    /// where the solver can ([`Solver::solve_many`]).
+    pub fn solve_many<const M: usize>(
+        &mut self,
+        rhs: [&[f64]; M],
+        x: [&mut [f64]; M],
+        options: &SolverOptions,
+    ) -> Result<[SolveReport; M], SolveError> {
+        let n = rhs.first().map_or(0, |r| r.len());
+        self.with_matrix(n, |solver, matrix| {
+            solver.solve_many(matrix, rhs, x, options)
+        })
+    }
+
+    /// Lends the assembled n × n matrix, as sprs's CSR type, to `f` with the solver.
+    fn with_matrix<T>(&mut self, n: usize, f: impl FnOnce(&mut Solver, &CsMat<f64>) -> T) -> T {
         // SAFETY: `assemble` writes every row sorted by column without duplicates, all
         // columns < n, and `indptr` non-decreasing from 0 to nnz (what sprs would check, one
         // sequential pass over every entry that cost as much as the solve itself: 4 ms of
@@ -205,7 +226,7 @@ impl LaplacianMatrix {
                 std::mem::take(&mut self.data),
             )
         };
-        let result = self.solver.solve(&matrix, rhs, x, options);
+        let result = f(&mut self.solver, &matrix);
         let (indptr, indices, data) = matrix.into_raw_storage();
         self.indptr = indptr;
         self.indices = indices;

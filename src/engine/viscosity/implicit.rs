@@ -6,8 +6,10 @@
 //! ```
 //!
 //! with L the Morris Laplacian (21) and the wall mirrors' no-slip values u_j = −u_i folded
-//! into the matrix (a moving wall's part b_j of u_j = −u_i + b_j goes to the right-hand side). Both velocity components share the matrix; each is solved by
-//! warm-started BiCGStab from u^n plus the previous step's u* − u (sparse-LU fallback). The matrix is diagonally dominant
+//! into the matrix (a moving wall's part b_j of u_j = −u_i + b_j goes to the right-hand side). The velocity components share the matrix; each is solved by
+//! warm-started BiCGStab from u^n plus the previous step's u* − u (sparse-LU fallback), all
+//! in lock-step where Jacobi preconditions them, so that each pass over the matrix serves
+//! every component (`Solver::solve_many`; the products are memory-bound). The matrix is diagonally dominant
 //! (an M-matrix in full support), so the solve is cheap, and δt is freed from the viscous
 //! limit ρh²/η0 of (28): see [`super::Viscosity::dt_limit`].
 
@@ -36,8 +38,9 @@ pub struct Accuracy {
 /// Reusable matrix and component buffers of the implicit viscous solve.
 pub struct ImplicitViscosity<const D: usize = 2> {
     matrix: LaplacianMatrix,
-    rhs: Vec<f64>,
-    component: Vec<f64>,
+    /// The right-hand side and the solution, one vector per component.
+    rhs: [Vec<f64>; D],
+    component: [Vec<f64>; D],
     /// u* − u^n of the previous step, per particle (empty: none, e.g. after a reorder).
     increment: Vec<Vector<D>>,
     /// Moving walls: the mirrors' offsets (extended) and their Laplacian.
@@ -49,8 +52,8 @@ impl<const D: usize> Default for ImplicitViscosity<D> {
     fn default() -> Self {
         Self {
             matrix: LaplacianMatrix::default(),
-            rhs: Vec::new(),
-            component: Vec::new(),
+            rhs: std::array::from_fn(|_| Vec::new()),
+            component: std::array::from_fn(|_| Vec::new()),
             increment: Vec::new(),
             offsets: Vec::new(),
             wall_term: Vec::new(),
@@ -65,8 +68,12 @@ where
     /// Heap bytes held.
     pub fn heap_bytes(&self) -> usize {
         self.matrix.heap_bytes()
-            + crate::engine::vec_bytes(&self.rhs)
-            + crate::engine::vec_bytes(&self.component)
+            + self.rhs.iter().map(crate::engine::vec_bytes).sum::<usize>()
+            + self
+                .component
+                .iter()
+                .map(crate::engine::vec_bytes)
+                .sum::<usize>()
             + crate::engine::vec_bytes(&self.increment)
             + crate::engine::vec_bytes(&self.offsets)
             + crate::engine::vec_bytes(&self.wall_term)
@@ -145,38 +152,32 @@ where
             matrix_unchanged: false,
             preconditioner,
         };
-        let mut reports = [None; D];
-        for (axis, report) in reports.iter_mut().enumerate() {
-            // Both components share the matrix (and an AMG hierarchy or LU factors).
-            let options = SolverOptions {
-                matrix_unchanged: axis > 0,
-                ..options
-            };
-            self.rhs.clear();
-            self.rhs.extend(velocity.iter().map(|u| u[axis]));
+        for (axis, (rhs, component)) in self.rhs.iter_mut().zip(&mut self.component).enumerate() {
+            rhs.clear();
+            rhs.extend(velocity.iter().map(|u| u[axis]));
             // The guess u^n + (u* − u)^{n−1}: in a steady flow u* − u^n = δt∇p/ρ (standard
             // projection) is steady too, and the guess is then nearly the solution.
-            self.component.clear();
+            component.clear();
             if self.increment.len() == warm_start.len() {
                 let guess = warm_start.iter().zip(&self.increment);
-                self.component.extend(guess.map(|(u, d)| u[axis] + d[axis]));
+                component.extend(guess.map(|(u, d)| u[axis] + d[axis]));
             } else {
-                self.component.extend(warm_start.iter().map(|u| u[axis]));
+                component.extend(warm_start.iter().map(|u| u[axis]));
             }
-            *report = Some(
-                self.matrix
-                    .solve(&self.rhs, &mut self.component, &options)?,
-            );
-            for (u, c) in velocity.iter_mut().zip(&self.component) {
+        }
+        // The components share the matrix (and an AMG hierarchy or LU factors), and where
+        // Jacobi serves, each pass over it.
+        let rhs = self.rhs.each_ref().map(Vec::as_slice);
+        let component = self.component.each_mut().map(Vec::as_mut_slice);
+        let reports = self.matrix.solve_many(rhs, component, &options)?;
+        for (axis, component) in self.component.iter().enumerate() {
+            for (u, c) in velocity.iter_mut().zip(component) {
                 u[axis] = *c;
             }
         }
         self.increment.clear();
         let increment = velocity.iter().zip(warm_start).map(|(s, u)| *s - *u);
         self.increment.extend(increment);
-        let Some(&first) = reports.iter().flatten().next() else {
-            return Err(SolveError::Lu("viscous solve produced no report".into()));
-        };
-        Ok(reports.map(|r| r.unwrap_or(first)))
+        Ok(reports)
     }
 }
