@@ -11,6 +11,7 @@
 #   plots/regenerate.sh discs      # the free disc in shear, migration, near contact, sedimentation (30 min)
 #   plots/regenerate.sh three-d    # the channel in 3D beside 2D at H/dr = 10, 15, 20; the pipe;
 #                                  # the cubic array of spheres; the sphere turning in shear
+#   plots/regenerate.sh speed      # each stage with one thread and two (quiet machine, 5 min)
 # Then `rheosph gallery` rewrites the validation pages' generated tables from the runs and
 # lists every committed number that changed.
 set -euo pipefail
@@ -383,6 +384,15 @@ done
 $R run cases/sphere-in-shear.toml --no-snapshots --no-charts --set scene.resolution=40 \
   --out $S/box4-r10
 rm -f $S/*/final_state.bin $S/*/checkpoint.bin $S/*/profile.csv
+fi
+
+if [ "$part" = all ] || [ "$part" = speed ]; then
+# Every stage with one thread and with two (docs: Speed, serial fraction).
+S=plots/bench/serial-fraction
+RHEOSPH=$R scripts/serial_fraction.sh $S/channel $C --set run.end_time=3
+RHEOSPH=$R scripts/serial_fraction.sh $S/cylinder-array cases/cylinder-array.toml --set run.end_time=0.05
+RHEOSPH=$R scripts/serial_fraction.sh $S/sphere-in-shear cases/sphere-in-shear.toml \
+  --set fluid.model=oldroyd-b --set fluid.beta=0.615 --set fluid.relaxation_time=1 --set run.end_time=0.1
 fi
 
 # The validation pages' tables from what ran (the changed numbers are listed).

@@ -25,7 +25,8 @@ def projected(t1, t2, n=64):
 # The whole run at 64 threads: the stages' projections, and the time outside every stage
 # (start-up, the loop's own work) taken as serial.
 staged = sum(t for _, t, _ in rows)
-whole_64 = sum(projected(t1, t2) for _, t1, t2 in rows if t1 > 0) + one["wall_seconds"] - staged
+whole_64 = sum(projected(t1, t2) for _, t1, t2 in rows if t1 > 0 and t2 > 0)
+whole_64 += one["wall_seconds"] - staged
 tmp = f"{out}/serial_fraction.csv.tmp"
 with open(tmp, "w", newline="") as f:
     w = csv.writer(f)
@@ -35,7 +36,7 @@ with open(tmp, "w", newline="") as f:
         w.writerow([stage, f"{t1 / one['wall_seconds']:.3f}", f"{t1:.3f}", f"{t2:.3f}",
                     f"{t1 / t2:.2f}", f"{2 * (1 - t2 / t1):.2f}", f"{t64:.3f}"])
     for stage, t1, t2 in rows:
-        if t1 > 0:
+        if t1 >= 1e-3:  # stages the case does not use
             row(stage, t1, t2, projected(t1, t2))
     row("whole run", one["wall_seconds"], two["wall_seconds"], whole_64)
 os.replace(tmp, f"{out}/serial_fraction.csv")
