@@ -384,6 +384,15 @@ done
 $R run cases/sphere-in-shear.toml --no-snapshots --no-charts --set scene.resolution=40 \
   --out $S/box4-r10
 rm -f $S/*/final_state.bin $S/*/checkpoint.bin $S/*/profile.csv
+# The same sphere in an Oldroyd-B fluid in the 3a box: De = 0.5, 1, 2 at the polymer
+# fractions 0.385 and 0.9, each for 6 lambda (about 35 min on 2 cores, two runs at a time).
+O=plots/three-d/sphere-rotation
+for b in 0.615 0.1; do
+  RHEOSPH=$R RAYON_NUM_THREADS=1 BETAS=$b scripts/sphere_rotation.sh $O &
+done
+wait
+python3 scripts/sphere_rotation_table.py $O $S/box3-r8
+rm -f $O/*/final_state.bin $O/*/checkpoint.bin $O/*/profile.csv
 fi
 
 if [ "$part" = all ] || [ "$part" = speed ]; then
