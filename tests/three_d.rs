@@ -529,3 +529,42 @@ fn a_newtonian_sphere_in_shear_turns_torque_free() {
     assert!(torque.abs() < 0.002 * held, "torque {torque}");
     assert!(spin[0].abs().max(spin[1].abs()) < 1e-3 * 0.5, "{spin:?}");
 }
+
+/// The pipe wall's axial load (`analysis::tube_load`, which a sphere's drag in a tube is read
+/// with) on the steady Poiseuille profile u = g(R² − r²)/(4ν) laid on the particles of
+/// `cases/pipe.toml` (2R/δr = 12, a Newtonian fluid): the wall stress is ρgR/2 all round,
+/// so the wall pulls the fluid back by ρgπR²L, which balances the drive. The surface fits
+/// take the velocity quadratic with the wall's value imposed, exact on this profile, so
+/// the bound is round-off (1e-6); a wrong normal, area or sign is off by a factor. With the
+/// wall sliding at U the profile's shear, and the load, are the same.
+#[test]
+fn the_pipe_wall_holds_back_the_poiseuille_drive() {
+    use rheosph::analysis::tube_load::{axial_load, PipeWall};
+    let text = std::fs::read_to_string("cases/pipe.toml").unwrap();
+    for velocity in [0.0, 1.0] {
+        let overrides = [
+            "scene.resolution=12".to_string(),
+            "fluid.model=\"newtonian\"".to_string(),
+            "fluid.relaxation_time=0".to_string(),
+            "fluid.beta=1".to_string(),
+            format!("scene.wall_velocity={velocity}"),
+        ];
+        let case = rheosph::setup::case::parse(&text, "pipe.toml", "pipe", &overrides).unwrap();
+        let mut sim =
+            rheosph::engine::step::Simulation::in_space(case.setup_in_space().unwrap()).unwrap();
+        let (g, nu, radius, length) = (4.0, 1.0, 1.0, 2.0);
+        for (u, p) in sim.state.velocity.iter_mut().zip(&sim.state.position) {
+            let r2 = (p.y - radius).powi(2) + (p.z - radius).powi(2);
+            u.x = velocity + g * (radius * radius - r2) / (4.0 * nu);
+        }
+        let wall = PipeWall {
+            axis: [radius, radius],
+            radius,
+            velocity,
+        };
+        let load = axial_load(&sim, wall).expect("every fit holds");
+        let exact = -g * std::f64::consts::PI * radius * radius * length;
+        println!("U = {velocity}: W_x = {load:.8} against {exact:.8}");
+        assert!((load / exact - 1.0).abs() < 1e-6, "{load} vs {exact}");
+    }
+}

@@ -11,3 +11,4 @@ pub mod plane;
 pub mod reference;
 pub mod rheometry;
 pub mod sphere_load;
+pub mod tube_load;

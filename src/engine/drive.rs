@@ -10,7 +10,6 @@
 
 use crate::engine::dimension::Vector;
 use crate::engine::neighbours::Domain;
-use crate::engine::reduce::blocked_sum;
 
 /// How the body force evolves.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -43,17 +42,6 @@ impl Drive {
             force[0] += gain * dt * (target - bulk());
         }
     }
-}
-
-/// The bulk velocity ⟨u⟩ = Σ u_x δV / |box| (Q/H in 2D, Q/(H W) in 3D): the mean of u_x over
-/// the whole box, a solid counted as at rest.
-pub fn bulk_velocity<const D: usize>(
-    velocity: &[Vector<D>],
-    particle_volume: f64,
-    domain: &Domain<D>,
-) -> f64 {
-    let sum = blocked_sum(velocity.len(), |i| velocity[i][0]);
-    sum * particle_volume / box_volume(domain)
 }
 
 /// The volume (2D: area) of the box.

@@ -166,7 +166,7 @@ pub fn validate(raw: CaseFile, name: &str) -> Result<Case, FieldError> {
             "this scene's corners and plates need mirrors: `fixed-ghost` has no lattice behind a corner yet",
         ));
     }
-    if scene.has_tube() && written.walls.model == WallModel::FixedGhost {
+    if scene.pipe_wall().is_some() && written.walls.model == WallModel::FixedGhost {
         return Err(field_err(
             "scheme.walls.model",
             "a pipe's wall needs mirrors: `fixed-ghost` has no lattice behind a tube yet",

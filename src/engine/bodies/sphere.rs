@@ -181,16 +181,18 @@ pub fn torque(view: SphereView, sphere: &Sphere, spin: Vector<3>) -> Option<Vect
         .par_iter()
         .map(|n| {
             let uw = spin.cross(&(n * a));
-            let t = traction(view, &near, sphere.centre + n * a, n, uw)?;
+            let t = wall_traction(view, &near, sphere.centre + n * a, n, uw)?;
             Some((n * a).cross(&t))
         })
         .collect();
     Some(moments?.iter().sum::<Vector<3>>() * (area / samples as f64))
 }
 
-/// 2η_s D·n + τ_p·n at the surface point `point` (outward normal `n`, moving at `uw`): the
-/// traction less its pressure part; None where a fit is singular.
-fn traction(
+/// 2η_s D·n + τ_p·n at the point `point` of a no-slip wall (normal `n` into the fluid,
+/// moving at `uw`), fitted from the particles `near` (module docs): the fluid's traction on
+/// the wall less its pressure part; None where a fit is singular. The sphere's torque and
+/// a pipe wall's axial load (`analysis::tube_load`) read it.
+pub fn wall_traction(
     view: SphereView,
     near: &[usize],
     point: Vector<3>,

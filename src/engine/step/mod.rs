@@ -33,7 +33,7 @@ use crate::engine::bodies::{Bodies, BodyRecord, Disc, DiscSet};
 use crate::engine::boundary::inflow::Inflow;
 use crate::engine::boundary::{Ghosts, Wall};
 use crate::engine::dimension::{Dim, Dimension, Sym, SymTensor, Vector};
-use crate::engine::drive::{box_volume, bulk_velocity, Drive};
+use crate::engine::drive::{box_volume, Drive};
 use crate::engine::frame::StepVelocities;
 use crate::engine::free_surface::{
     Cohesion, DetachedBodies, DetachedMomentum, FreeSurface, FreeSurfaceStage, SurfaceTensionForm,
@@ -120,6 +120,9 @@ where
     pub scales: Scales,
     /// A sphere turning about its held centre (in space only; its wall is among `walls`).
     pub sphere: Option<TurningSphere>,
+    /// The volume the bulk velocity averages over (None: the box, ⟨u⟩ = Q/H or Q/(HW); a
+    /// pipe's inside πR²L, ⟨u⟩ = Q/(πR²)).
+    pub flow_volume: Option<f64>,
 }
 
 /// The stage objects of the step, built once from the scheme.
@@ -159,6 +162,8 @@ where
     pub spacing: f64,
     pub domain: Domain<D>,
     pub drive: Drive,
+    /// The volume the bulk velocity averages over ([`FlowSetup::flow_volume`]).
+    pub flow_volume: f64,
     pub scales: Scales,
     pub state: State<D>,
     pub timers: StageSeconds,
@@ -274,6 +279,7 @@ impl Simulation<2> {
             drive: setup.drive,
             scales: setup.scales,
             sphere: None,
+            flow_volume: None,
         };
         Self::assemble(flow, parts)
     }
@@ -378,6 +384,7 @@ where
             spacing: flow.spacing,
             domain: flow.domain,
             drive: flow.drive,
+            flow_volume: flow.flow_volume.unwrap_or_else(|| box_volume(&flow.domain)),
             scales: flow.scales,
             state: State::initial(flow.positions, flow.velocity, conformation, flow.body_force),
             timers: StageSeconds::default(),
@@ -496,17 +503,18 @@ where
         }
     }
 
-    /// The bulk velocity ⟨u⟩ = Q/H ([`bulk_velocity`]), each particle's own volume under
+    /// The bulk velocity ⟨u⟩ = Σ u_x δV over the flow's volume (Q/H in a channel,
+    /// Q/(πR²) in a pipe: [`FlowSetup::flow_volume`]), each particle's own volume under
     /// graded resolution.
     pub fn bulk_velocity(&self) -> f64 {
         let (velocity, local) = (&self.state.velocity, self.stages.hood.local());
-        if local.len() != velocity.len() {
-            return bulk_velocity(velocity, self.particle_volume(), &self.domain);
-        }
-        let sum = crate::engine::reduce::blocked_sum(velocity.len(), |i| {
-            velocity[i][0] * local[i].volume
-        });
-        sum / box_volume(&self.domain)
+        let sum = if local.len() != velocity.len() {
+            let volume = self.particle_volume();
+            crate::engine::reduce::blocked_sum(velocity.len(), |i| velocity[i][0]) * volume
+        } else {
+            crate::engine::reduce::blocked_sum(velocity.len(), |i| velocity[i][0] * local[i].volume)
+        };
+        sum / self.flow_volume
     }
 
     /// Sorts the fluid particles along a Morton curve of their cells (see

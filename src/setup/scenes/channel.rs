@@ -569,26 +569,15 @@ impl Channel {
         let (dr, domain) = (self.spacing(), self.space_domain());
         let counts = [self.columns, self.bounds.resolution, self.layers];
         let n: usize = counts.iter().product();
-        (0..n)
-            .map(|k| {
-                let index = [
-                    k % counts[0],
-                    (k / counts[0]) % counts[1],
-                    k / (counts[0] * counts[1]),
-                ];
-                Vector::<3>::from_fn(|a, _| (index[a] as f64 + 0.5) * dr)
-            })
-            .filter(|p| {
-                self.sphere
-                    .iter()
-                    .all(|s| sphere::beyond_shells(s, self.shells, p, &domain, dr))
-            })
-            .chain(
-                self.sphere
-                    .iter()
-                    .flat_map(|s| sphere::shells(s, self.shells, dr, &domain)),
-            )
-            .collect()
+        let lattice = (0..n).map(|k| {
+            let index = [
+                k % counts[0],
+                (k / counts[0]) % counts[1],
+                k / (counts[0] * counts[1]),
+            ];
+            Vector::<3>::from_fn(|a, _| (index[a] as f64 + 0.5) * dr)
+        });
+        sphere::with_shells(lattice, self.sphere.as_ref(), self.shells, dr, &domain)
     }
 }
 
@@ -773,6 +762,7 @@ impl Scene for Channel {
             drive: self.drive(fluid),
             scales,
             sphere: turning,
+            flow_volume: None,
         })
     }
 

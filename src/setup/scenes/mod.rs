@@ -19,6 +19,7 @@ pub mod taylor_green;
 
 use crate::analysis::plane::PlaneMap;
 use crate::analysis::reference::Reference;
+use crate::analysis::tube_load::PipeWall;
 use crate::engine::boundary::{Circle, Plane, Shape, Sphere, Wall};
 use crate::engine::kernel::{H_OVER_DR, SUPPORT_OVER_H};
 use crate::engine::math::Vec2;
@@ -268,10 +269,10 @@ pub trait Scene: fmt::Debug + Send + Sync {
     fn has_corners(&self) -> bool {
         false
     }
-    /// Whether a wall is the inside of a pipe, which only mirrors handle (no fixed ghost
+    /// The inside of a pipe, if a wall is one (only mirrors handle it: no fixed ghost
     /// lattice behind a tube yet).
-    fn has_tube(&self) -> bool {
-        false
+    fn pipe_wall(&self) -> Option<PipeWall> {
+        None
     }
     /// The static contact angle (radians) where the free surface meets a wall.
     fn contact_angle(&self) -> Option<f64> {

@@ -178,6 +178,25 @@ pub fn shells(sphere: &Sphere, count: usize, dr: f64, domain: &Domain<3>) -> Vec
     points
 }
 
+/// The points of `lattice` beyond `count` shells of `sphere` ([`beyond_shells`]) and the
+/// shells themselves ([`shells`]); without a sphere, the lattice.
+pub fn with_shells(
+    lattice: impl Iterator<Item = Vector<3>>,
+    sphere: Option<&Sphere>,
+    count: usize,
+    dr: f64,
+    domain: &Domain<3>,
+) -> Vec<Vector<3>> {
+    lattice
+        .filter(|p| sphere.is_none_or(|s| beyond_shells(s, count, p, domain, dr)))
+        .chain(
+            sphere
+                .into_iter()
+                .flat_map(|s| shells(s, count, dr, domain)),
+        )
+        .collect()
+}
+
 /// Whether a lattice point lies beyond `count` shells of `sphere` (its nearest image).
 pub fn beyond_shells(
     sphere: &Sphere,

@@ -117,14 +117,11 @@ impl Probe for CylinderProbe {
     }
 
     fn checkpoint(&self) -> Option<serde_json::Value> {
-        serde_json::to_value(&self.state).ok()
+        self.state.to_json()
     }
 
     fn restore(&mut self, _dir: &Path, _t: f64, state: Option<&serde_json::Value>) -> Result<()> {
-        if let Some(v) = state {
-            self.state = serde_json::from_value(v.clone())?;
-        }
-        Ok(())
+        Ok(self.state.restore(state)?)
     }
 
     /// `centreline.csv` and the cylinder charts; the `steady` summary.

@@ -16,6 +16,7 @@ pub mod meniscus;
 pub mod rotation;
 pub mod sphere;
 pub mod steady;
+pub mod tube;
 
 use crate::app::io::SeriesRow;
 use crate::app::plot::FigureFormat;
@@ -135,12 +136,14 @@ pub fn names(case: &Case) -> Vec<&'static str> {
 
 impl Probes<3> {
     /// The probes that apply to a case in space: a sphere's drag in a periodic box (the
-    /// box's momentum balance, which plates would share), its rotation and torque between
-    /// plates or when it turns.
+    /// box's momentum balance, which plates would share) or in a pipe (a control sphere),
+    /// its rotation and torque between plates or when it turns.
     pub fn in_space(case: &Case) -> Self {
         let mut probes: Vec<Box<dyn Probe<3>>> = Vec::new();
         let scene = &case.scene;
-        if let Some(s) = scene.sphere() {
+        if let (Some(s), Some(wall)) = (scene.sphere(), scene.pipe_wall()) {
+            probes.push(Box::new(tube::TubeProbe::new(case, s, wall)));
+        } else if let Some(s) = scene.sphere() {
             let in_box = scene.periodic()[1];
             if in_box {
                 probes.push(Box::new(sphere::SphereProbe::new(case, s)));

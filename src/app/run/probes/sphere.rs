@@ -4,7 +4,7 @@
 //! averages after it, Zick & Homsy's K at the array's solid fraction where their table
 //! has it, and the final state's K from control spheres around the body.
 
-use super::steady::SteadyWindows;
+use super::steady::{DragWindow, SteadyWindows};
 use super::Probe;
 use crate::analysis::{forces, sphere_load};
 use crate::app::io::SeriesRow;
@@ -26,34 +26,7 @@ pub struct SphereProbe {
     run_end: f64,
     /// When the drive became steady and the averages since (or over the run's last
     /// `average` time units while it is not): what a checkpoint keeps.
-    state: SteadyWindows<Window>,
-}
-
-/// Sums over output rows.
-#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize)]
-struct Window {
-    from: f64,
-    to: f64,
-    samples: usize,
-    drag_k: f64,
-    u_mean: f64,
-}
-
-impl Window {
-    fn new(from: f64) -> Self {
-        Self {
-            from,
-            to: from,
-            ..Default::default()
-        }
-    }
-
-    fn add(&mut self, row: &SeriesRow) {
-        self.to = row.t;
-        self.samples += 1;
-        self.drag_k += row.drag_k;
-        self.u_mean += row.u_mean;
-    }
+    state: SteadyWindows<DragWindow>,
 }
 
 /// `summary.json`'s `sphere` entry.
@@ -96,19 +69,18 @@ impl SphereProbe {
     }
 
     /// The summary of `avg` in `sim`'s box.
-    fn summary(&self, sim: &Simulation<3>, avg: &Window) -> SphereSummary {
-        let n = avg.samples.max(1) as f64;
+    fn summary(&self, sim: &Simulation<3>, avg: &DragWindow) -> SphereSummary {
         let c = crate::setup::scenes::sphere::solid_fraction(&self.sphere, &sim.domain);
         let box_volume = crate::engine::drive::box_volume(&sim.domain);
         let fluid = box_volume * (1.0 - c);
-        let drag_k = avg.drag_k / n;
+        let drag_k = avg.drag_k();
         let reference = forces::zick_homsy(c);
         SphereSummary {
             reached_at: self.state.steady_at,
             averaged_from: avg.from,
             averaged_to: avg.to,
             samples: avg.samples,
-            u_mean: avg.u_mean / n,
+            u_mean: avg.u_mean(),
             drag_k,
             radius: self.sphere.radius,
             solid_fraction: c,
@@ -153,20 +125,15 @@ impl Probe<3> for SphereProbe {
     /// run after the averaging time.
     fn end_time(&mut self, _sim: &mut Simulation<3>, rows: &[SeriesRow]) -> Option<f64> {
         let criterion = self.criterion?;
-        let last = &rows[rows.len() - 1];
-        self.state
-            .observe(&criterion, self.run_end, rows, Window::new, |w| w.add(last))
+        self.state.observe_rows(&criterion, self.run_end, rows)
     }
 
     fn checkpoint(&self) -> Option<serde_json::Value> {
-        serde_json::to_value(&self.state).ok()
+        self.state.to_json()
     }
 
     fn restore(&mut self, _dir: &Path, _t: f64, state: Option<&serde_json::Value>) -> Result<()> {
-        if let Some(v) = state {
-            self.state = serde_json::from_value(v.clone())?;
-        }
-        Ok(())
+        Ok(self.state.restore(state)?)
     }
 
     /// The `sphere` summary: the steady window's means, else the last `average` units',
@@ -178,14 +145,7 @@ impl Probe<3> for SphereProbe {
         _dir: &Path,
         _charts: Option<FigureFormat>,
     ) -> Result<Option<serde_json::Value>> {
-        let filled = |w: &Option<Window>| w.filter(|w| w.samples > 0);
-        let avg = filled(&self.state.averages)
-            .or(filled(&self.state.tail))
-            .unwrap_or_else(|| {
-                let mut w = Window::new(sim.state.time);
-                rows.last().into_iter().for_each(|r| w.add(r));
-                w
-            });
+        let avg = self.state.reported(sim.state.time, rows);
         let t0 = Instant::now();
         let summary = self.summary(sim, &avg);
         sim.timers

@@ -47,6 +47,85 @@ pub struct SteadyWindows<A> {
     pub tail: Option<A>,
 }
 
+impl<A: Serialize + serde::de::DeserializeOwned + Default> SteadyWindows<A> {
+    /// What a checkpoint keeps of it.
+    pub fn to_json(&self) -> Option<serde_json::Value> {
+        serde_json::to_value(self).ok()
+    }
+
+    /// Continues from a checkpoint's copy (None: an older checkpoint without it).
+    pub fn restore(&mut self, state: Option<&serde_json::Value>) -> serde_json::Result<()> {
+        if let Some(v) = state {
+            *self = serde_json::from_value(v.clone())?;
+        }
+        Ok(())
+    }
+}
+
+/// A body's drag coefficient and the bulk velocity summed over output rows (a sphere's
+/// probes).
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize)]
+pub struct DragWindow {
+    pub from: f64,
+    pub to: f64,
+    pub samples: usize,
+    pub drag_k: f64,
+    pub u_mean: f64,
+}
+
+impl DragWindow {
+    pub fn new(from: f64) -> Self {
+        Self {
+            from,
+            to: from,
+            ..Default::default()
+        }
+    }
+
+    pub fn add(&mut self, row: &SeriesRow) {
+        self.to = row.t;
+        self.samples += 1;
+        self.drag_k += row.drag_k;
+        self.u_mean += row.u_mean;
+    }
+
+    /// The window's mean K.
+    pub fn drag_k(&self) -> f64 {
+        self.drag_k / self.samples.max(1) as f64
+    }
+
+    /// The window's mean ⟨u⟩.
+    pub fn u_mean(&self) -> f64 {
+        self.u_mean / self.samples.max(1) as f64
+    }
+}
+
+impl SteadyWindows<DragWindow> {
+    /// After an output row: [`SteadyWindows::observe`] adding the last row.
+    pub fn observe_rows(
+        &mut self,
+        criterion: &SteadyCriterion,
+        run_end: f64,
+        rows: &[SeriesRow],
+    ) -> Option<f64> {
+        let last = &rows[rows.len() - 1];
+        self.observe(criterion, run_end, rows, DragWindow::new, |w| w.add(last))
+    }
+
+    /// The window a summary reports: the steady one, else the run's last `average` time
+    /// units (not steady values), else the final row alone at `t`.
+    pub fn reported(&self, t: f64, rows: &[SeriesRow]) -> DragWindow {
+        let filled = |w: &Option<DragWindow>| w.filter(|w| w.samples > 0);
+        filled(&self.averages)
+            .or(filled(&self.tail))
+            .unwrap_or_else(|| {
+                let mut w = DragWindow::new(t);
+                rows.last().into_iter().for_each(|r| w.add(r));
+                w
+            })
+    }
+}
+
 impl<A> SteadyWindows<A> {
     /// After an output row (the last of `rows`): `add` puts it into the window it falls in,
     /// `start(t)` opening one; an earlier end time when the criterion is first met.
