@@ -10,7 +10,8 @@
 #   plots/regenerate.sh models     # the models', Couette's, the cavity's and the GN channels' cases (10 min)
 #   plots/regenerate.sh discs      # the free disc in shear, migration, near contact, sedimentation (30 min)
 #   plots/regenerate.sh three-d    # the channel in 3D beside 2D at H/dr = 10, 15, 20; the pipe;
-#                                  # the cubic array of spheres; the sphere turning in shear
+#                                  # the cubic array of spheres; the sphere in a tube; the
+#                                  # sphere turning in shear
 #   plots/regenerate.sh speed      # each stage with one thread and two (quiet machine, 5 min)
 # Then `rheosph gallery` rewrites the validation pages' generated tables from the runs and
 # lists every committed number that changed.
@@ -372,6 +373,13 @@ $R run cases/sphere-array.toml --no-snapshots --no-charts --set scene.resolution
 $R run cases/sphere-array.toml --no-snapshots --no-charts --set scene.resolution=32 \
   --set scene.sphere.radius=0.3722103 --out $A/c0.216-r32
 rm -f $A/*/final_state.bin $A/*/checkpoint.bin $A/*/profile.csv
+# The sphere falling in a tube (a/R = 1/2): Newtonian K against 5.947 with the period, the
+# resolution and the time step; Oldroyd-B (beta = 1/2) K against Wi (about 100 min on 2 cores,
+# two runs at a time).
+T=plots/three-d/sphere-in-tube
+RHEOSPH=$R RAYON_NUM_THREADS=1 PARTS=newtonian scripts/sphere_in_tube.sh $T &
+RHEOSPH=$R RAYON_NUM_THREADS=1 PARTS=oldroyd-b scripts/sphere_in_tube.sh $T &
+wait
 # A sphere turning freely in plane Couette flow (Newtonian, gamma = 1, a/dr = 8): the box
 # test, cubes of side 3a to 6a, and a/dr = 10 in the 4a box (about 45 min on 2 cores).
 S=plots/three-d/sphere-in-shear

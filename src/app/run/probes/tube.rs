@@ -8,9 +8,8 @@
 //! from the pipe's momentum balance with the wall's share fitted on the wall
 //! ([`tube_load`]), and the final state also off control spheres around the body
 //! ([`sphere_load::on_control_sphere`]), whose fits reach neither the sphere nor, at
-//! a/δr = 8 and R = 2a, the wall from a + 4δr. Both hold once the flow is steady. Measured
-//! on the Newtonian case (6a period, a/δr = 8): the balance's K within 0.12 % of the
-//! benchmark's, the control spheres' 0.6–1.4 % above it.
+//! a/δr = 8 and R = 2a, the wall from a + 4δr. Both hold once the flow is steady; the
+//! validation pages compare them.
 
 use super::steady::{DragWindow, SteadyWindows};
 use super::Probe;
@@ -29,9 +28,8 @@ use std::path::Path;
 use std::time::Instant;
 
 /// The Newtonian drag coefficient of a sphere on the axis of a tube with a/R = 1/2, in
-/// creeping flow: 5.94716, the value the benchmark's converged computations agree on to
-/// the digits given (Bodart & Crochet 1994; Owens & Phillips 1996; Fan, Tanner &
-/// Phan-Thien 1999).
+/// creeping flow: 5.94716, the Wi = 0 entry of the falling-sphere benchmark, on which its
+/// converged computations agree to the digits given.
 pub const NEWTONIAN_K_HALF: f64 = 5.94716;
 
 /// The control spheres' distances from the body, in spacings.
